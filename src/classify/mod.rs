@@ -1,0 +1,81 @@
+//! The per-frame algorithm: IR-view scanline classification ([`scanline`]), then the warp into the
+//! RGB camera that carries labels over and finds alignment shadows ([`align`]).
+//!
+//! Everything here is pure computation on caller-owned buffers: no I/O, no per-frame allocation.
+
+pub mod align;
+pub mod scanline;
+
+use crate::calib::Calibration;
+use crate::labels::PIXELS;
+
+/// Tunable thresholds of the classifier; defaults fit the Kinect v1 (see each field).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    /// Smallest disparity step (pixels) between a hole's bounds that counts as a depth edge.
+    pub min_step_px: f64,
+    /// How much narrower than predicted an attached shadow may look (pixels).
+    pub attached_under_px: f64,
+    /// How much wider than predicted an attached shadow may look before its far part is OTHER;
+    /// the real sensor's correlation window widens shadows by up to ~7 px (SPEC §1).
+    pub attached_over_px: f64,
+    /// Tolerance (pixels) on each of the two detached-shadow equations (4)–(5).
+    pub detached_tol_px: f64,
+    /// Valid runs this short between two holes are treated as noise inside one hole.
+    pub max_island_px: usize,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params { min_step_px: 1.5, attached_under_px: 4.0, attached_over_px: 8.0, detached_tol_px: 4.0, max_island_px: 2 }
+    }
+}
+
+/// Output buffers of one classified frame, allocated once and reused.
+#[derive(Clone, Debug)]
+pub struct Classified {
+    /// Labels in the IR (depth) view, SPEC §2 codes.
+    pub ir_labels: Vec<u8>,
+    /// Labels in the RGB view.
+    pub rgb_labels: Vec<u8>,
+    /// Depth registered to the RGB view, millimetres, 0 = none.
+    pub registered_mm: Vec<u16>,
+}
+
+impl Default for Classified {
+    fn default() -> Self {
+        Classified { ir_labels: vec![0; PIXELS], rgb_labels: vec![0; PIXELS], registered_mm: vec![0; PIXELS] }
+    }
+}
+
+/// Classifies whole frames with a fixed calibration; holds scratch buffers so that
+/// [`Classifier::classify`] never allocates.
+pub struct Classifier {
+    scan: scanline::ScanParams,
+    warp: align::Warp,
+    /// Raw values with holes filled by the depth they are assumed to lie at (for the warp).
+    filled: Vec<u16>,
+}
+
+impl Classifier {
+    /// A classifier for `calib` with default [`Params`].
+    pub fn new(calib: &Calibration) -> Self {
+        Self::with_params(calib, Params::default())
+    }
+
+    /// A classifier with explicit thresholds.
+    pub fn with_params(calib: &Calibration, params: Params) -> Self {
+        Classifier {
+            scan: scanline::ScanParams::new(calib, &params),
+            warp: align::Warp::new(calib),
+            filled: vec![0; PIXELS],
+        }
+    }
+
+    /// Labels one raw 640×480 frame in both views.
+    pub fn classify(&mut self, raw: &[u16], out: &mut Classified) {
+        assert_eq!(raw.len(), PIXELS, "a frame has 640x480 raw values");
+        scanline::classify_frame(&self.scan, raw, &mut out.ir_labels, &mut self.filled);
+        self.warp.apply(&self.filled, &out.ir_labels, &mut out.rgb_labels, &mut out.registered_mm);
+    }
+}

@@ -1,0 +1,43 @@
+//! Command-line interface: one module per subcommand, each a thin layer over the library.
+
+pub mod eval;
+pub mod render;
+pub mod replay;
+pub mod synth;
+
+use clap::{Parser, Subcommand};
+
+/// umbra: Kinect v1 shadow classification (Deng et al., ICCVW 2013).
+#[derive(Parser, Debug)]
+#[command(name = "umbra", version, about, long_about = None)]
+pub struct Cli {
+    /// More log output (-v info, -vv debug); RUST_LOG overrides.
+    #[arg(short, long, action = clap::ArgAction::Count, global = true)]
+    pub verbose: u8,
+    /// The subcommand.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Classify every frame of a recording as fast as possible; optionally export label PNGs.
+    Replay(replay::Args),
+    /// Draw one frame as a picture: RGB | IR-view labels | RGB-view labels.
+    Render(render::Args),
+    /// Simulate Kinect v1 recordings with exact ground-truth labels.
+    Synth(synth::Args),
+    /// Score the classifier on recordings against ground-truth labels.
+    Eval(eval::Args),
+}
+
+/// Runs the parsed command.
+pub fn run(cli: Cli) -> crate::Result<()> {
+    match cli.command {
+        Command::Replay(a) => replay::run(a),
+        Command::Render(a) => render::run(a),
+        Command::Synth(a) => synth::run(a),
+        Command::Eval(a) => eval::run(a),
+    }
+}

@@ -1,0 +1,91 @@
+//! libfreenect's registration record (`device.json`, as newer `fakenect-record` writes it), used
+//! for the calibration when a recording has no `calibration.toml`.
+//!
+//! Only the zero-plane block matters here: `reference_distance` / `reference_pixel_size` give the
+//! IR focal length (the pixel size is for the 1280-wide sensor, hence the factor 2 at 640 px), and
+//! `dcmos_emitter_distance` / `dcmos_rcmos_distance` (cm) give the projector and RGB baselines.
+
+use std::path::Path;
+
+use serde::Deserialize;
+
+use crate::calib::Calibration;
+use crate::error::{Error, Result};
+
+#[derive(Deserialize)]
+struct DeviceJson {
+    reg_info: RegInfo,
+}
+
+#[derive(Deserialize)]
+struct RegInfo {
+    zero_plane_info: ZeroPlane,
+}
+
+#[derive(Deserialize)]
+struct ZeroPlane {
+    dcmos_emitter_distance: f64,
+    dcmos_rcmos_distance: f64,
+    reference_distance: f64,
+    reference_pixel_size: f64,
+}
+
+/// Reads `device.json` and derives a calibration from it (NYU defaults for what it lacks).
+pub fn load(path: &Path) -> Result<Calibration> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, "reading", e))?;
+    from_str(&text, path)
+}
+
+/// Parses device.json text; `path` is used in error messages only.
+pub fn from_str(text: &str, path: &Path) -> Result<Calibration> {
+    let d: DeviceJson = serde_json::from_str(text)
+        .map_err(|e| Error::input(path, format!("line {}, column {}", e.line(), e.column()), format!("{e}")))?;
+    let z = d.reg_info.zero_plane_info;
+    let key = |k: &str| format!("reg_info.zero_plane_info.{k}");
+    let positive = |v: f64, k: &str| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(Error::input(path, key(k), format!("value {v} is not a positive number")))
+        }
+    };
+    let zpd = positive(z.reference_distance, "reference_distance")?;
+    let zpps = positive(z.reference_pixel_size, "reference_pixel_size")?;
+    let emitter_cm = positive(z.dcmos_emitter_distance, "dcmos_emitter_distance")?;
+    let rgb_cm = positive(z.dcmos_rcmos_distance, "dcmos_rcmos_distance")?;
+    let mut c = Calibration::nyu_default();
+    let f = zpd / (2.0 * zpps);
+    c.depth.fx = f;
+    c.depth.fy = f;
+    c.depth.cx = 319.5;
+    c.depth.cy = 239.5;
+    c.raw.baseline_m = emitter_cm / 100.0;
+    // Raw values are 1/8-pixel disparity offsets, so the model's numerator is 8·f·b.
+    c.raw.numerator = 8.0 * f * c.raw.baseline_m;
+    c.depth_to_rgb.translation.x = -rgb_cm / 100.0;
+    c.validate().map_err(|(k, why)| Error::input(path, format!("derived calibration key {k}"), why))?;
+    Ok(c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn derives_focal_length_and_baseline() {
+        let text = r#"{"reg_info":{"ax":1,"zero_plane_info":{"dcmos_emitter_distance":7.5,
+            "dcmos_rcmos_distance":2.4,"reference_distance":120,"reference_pixel_size":0.1042}},"const_shift":200}"#;
+        let c = from_str(text, Path::new("device.json")).unwrap();
+        assert!((c.depth.fx - 575.8).abs() < 0.1, "{}", c.depth.fx);
+        assert!((c.raw.baseline_m - 0.075).abs() < 1e-9);
+        assert!((c.depth_to_rgb.translation.x + 0.024).abs() < 1e-9);
+    }
+
+    #[test]
+    fn errors_name_place() {
+        let e = from_str("{\"reg_info\": 3", Path::new("d.json")).unwrap_err().to_string();
+        assert!(e.starts_with("d.json: line 1, column"), "{e}");
+        let e = from_str(r#"{"reg_info":{"zero_plane_info":{"dcmos_emitter_distance":-1,"dcmos_rcmos_distance":2.4,"reference_distance":120,"reference_pixel_size":0.1}}}"#, Path::new("d.json")).unwrap_err().to_string();
+        assert!(e.contains("dcmos_emitter_distance"), "{e}");
+    }
+}

@@ -1,0 +1,249 @@
+//! Reading recordings in libfreenect's fakenect folder format (SPEC §3).
+//!
+//! `Recording::open` checks the whole INDEX.txt up front (names, order of fields, files present) so
+//! that a long replay never dies half way on a typo; frame files are read on demand into
+//! caller-owned buffers so the pipeline can recycle them.
+
+pub mod device_json;
+pub mod pnm;
+
+use std::path::{Path, PathBuf};
+
+use crate::calib::Calibration;
+use crate::error::{Error, Result};
+
+/// Which stream an INDEX.txt entry belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stream {
+    /// `d-*.pgm`: 11-bit depth.
+    Depth,
+    /// `r-*.ppm`: RGB.
+    Rgb,
+    /// `a-*.dump`: accelerometer state.
+    Accel,
+}
+
+/// One line of INDEX.txt, parsed from `%c-%f-%u.%s`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Entry {
+    /// The stream.
+    pub stream: Stream,
+    /// Host time the frame was received, seconds since the epoch.
+    pub unix_time: f64,
+    /// The device's 32-bit frame timestamp (wraps).
+    pub device_ts: u32,
+    /// File name as written in INDEX.txt.
+    pub name: String,
+    /// 1-based line number in INDEX.txt, for error messages.
+    pub line: usize,
+}
+
+/// A depth frame and the RGB frame paired with it.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// 0-based frame index among the depth lines (SPEC §3).
+    pub index: usize,
+    /// The depth entry.
+    pub depth: Entry,
+    /// The RGB entry nearest in time, if the recording has RGB.
+    pub rgb: Option<Entry>,
+}
+
+/// Where a recording's calibration came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CalibrationSource {
+    /// The recording's `calibration.toml`.
+    File,
+    /// Derived from the recording's `device.json` (libfreenect's registration record).
+    DeviceJson,
+    /// NYU Kinect v1 defaults.
+    Default,
+}
+
+/// An opened, validated recording.
+#[derive(Clone, Debug)]
+pub struct Recording {
+    dir: PathBuf,
+    frames: Vec<Frame>,
+    calibration: Calibration,
+    calibration_source: CalibrationSource,
+}
+
+impl Recording {
+    /// Opens a recording folder: parses INDEX.txt, checks every named file exists, pairs RGB with
+    /// depth and loads the calibration (`calibration.toml`, else `device.json`, else defaults).
+    pub fn open(dir: &Path) -> Result<Self> {
+        if !dir.is_dir() {
+            return Err(Error::input(dir, "", "not a recording folder (expected a folder with INDEX.txt)"));
+        }
+        let index_path = dir.join("INDEX.txt");
+        let text = match std::fs::read(&index_path) {
+            Ok(b) => String::from_utf8(b).map_err(|e| {
+                Error::input(&index_path, format!("byte {}", e.utf8_error().valid_up_to()), "not UTF-8 text")
+            })?,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                return Err(Error::input(&index_path, "", "missing: a fakenect recording needs INDEX.txt listing its frames"))
+            }
+            Err(e) => return Err(Error::io(&index_path, "reading", e)),
+        };
+        let entries = parse_index(&index_path, &text)?;
+        for e in &entries {
+            if !dir.join(&e.name).is_file() {
+                return Err(Error::input(&index_path, format!("line {}", e.line), format!("names {} which does not exist in {}", e.name, dir.display())));
+            }
+        }
+        let frames = pair_frames(&entries);
+        if frames.is_empty() {
+            return Err(Error::input(&index_path, "", "lists no depth frame (d-*.pgm)"));
+        }
+        let (calibration, calibration_source) = load_calibration(dir)?;
+        Ok(Recording { dir: dir.to_path_buf(), frames, calibration, calibration_source })
+    }
+
+    /// The recording folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Depth frames in order, each with its paired RGB frame.
+    pub fn frames(&self) -> &[Frame] {
+        &self.frames
+    }
+
+    /// Number of depth frames.
+    pub fn len(&self) -> usize {
+        self.frames.len()
+    }
+
+    /// True when the recording has no depth frame (never, for an opened recording).
+    pub fn is_empty(&self) -> bool {
+        self.frames.is_empty()
+    }
+
+    /// The calibration to classify with.
+    pub fn calibration(&self) -> &Calibration {
+        &self.calibration
+    }
+
+    /// Where [`Recording::calibration`] came from.
+    pub fn calibration_source(&self) -> CalibrationSource {
+        self.calibration_source
+    }
+
+    /// Reads depth frame `i` into `out` (640·480 raw values).
+    pub fn read_depth(&self, i: usize, out: &mut [u16]) -> Result<()> {
+        pnm::read_depth(&self.dir.join(&self.frames[i].depth.name), out)
+    }
+
+    /// Reads the RGB frame paired with depth frame `i` into `out`; `Ok(false)` if there is none.
+    pub fn read_rgb(&self, i: usize, out: &mut [u8]) -> Result<bool> {
+        match &self.frames[i].rgb {
+            Some(e) => pnm::read_rgb(&self.dir.join(&e.name), out).map(|_| true),
+            None => Ok(false),
+        }
+    }
+}
+
+/// Parses INDEX.txt; blank lines are skipped, anything else must be a fakenect frame name.
+pub fn parse_index(path: &Path, text: &str) -> Result<Vec<Entry>> {
+    let mut out = Vec::new();
+    for (i, raw_line) in text.lines().enumerate() {
+        let line = raw_line.trim();
+        if line.is_empty() {
+            continue;
+        }
+        let entry = parse_name(line, i + 1).map_err(|why| {
+            Error::input(path, format!("line {}", i + 1), format!("'{line}' {why}; expected d-<unix_time>-<device_ts>.pgm, r-….ppm or a-….dump"))
+        })?;
+        out.push(entry);
+    }
+    Ok(out)
+}
+
+fn parse_name(name: &str, line: usize) -> std::result::Result<Entry, &'static str> {
+    if name.contains('/') || name.contains('\\') {
+        return Err("is a path, not a file name");
+    }
+    let (stem, ext) = name.rsplit_once('.').ok_or("has no extension")?;
+    let mut parts = stem.splitn(3, '-');
+    let kind = parts.next().ok_or("is empty")?;
+    let time = parts.next().ok_or("has no time field")?;
+    let ts = parts.next().ok_or("has no device timestamp field")?;
+    let stream = match (kind, ext) {
+        ("d", "pgm") => Stream::Depth,
+        ("r", "ppm") => Stream::Rgb,
+        ("a", "dump") => Stream::Accel,
+        ("d" | "r" | "a", _) => return Err("has the wrong extension for its stream"),
+        _ => return Err("does not start with d-, r- or a-"),
+    };
+    let unix_time: f64 = time.parse().map_err(|_| "has a time field that is not a number")?;
+    if !unix_time.is_finite() || unix_time < 0.0 {
+        return Err("has a negative or non-finite time");
+    }
+    let device_ts: u32 = ts.parse().map_err(|_| "has a device timestamp that is not a 32-bit unsigned number")?;
+    Ok(Entry { stream, unix_time, device_ts, name: name.to_string(), line })
+}
+
+/// Pairs each depth entry with the RGB entry nearest in host time.
+fn pair_frames(entries: &[Entry]) -> Vec<Frame> {
+    let mut rgb: Vec<&Entry> = entries.iter().filter(|e| e.stream == Stream::Rgb).collect();
+    rgb.sort_by(|a, b| a.unix_time.total_cmp(&b.unix_time));
+    entries
+        .iter()
+        .filter(|e| e.stream == Stream::Depth)
+        .enumerate()
+        .map(|(index, d)| {
+            let at = rgb.partition_point(|r| r.unix_time < d.unix_time);
+            let best = [at.checked_sub(1), Some(at)]
+                .into_iter()
+                .flatten()
+                .filter_map(|k| rgb.get(k))
+                .min_by(|a, b| (a.unix_time - d.unix_time).abs().total_cmp(&(b.unix_time - d.unix_time).abs()));
+            Frame { index, depth: d.clone(), rgb: best.map(|e| (*e).clone()) }
+        })
+        .collect()
+}
+
+fn load_calibration(dir: &Path) -> Result<(Calibration, CalibrationSource)> {
+    let toml_path = dir.join("calibration.toml");
+    if toml_path.exists() {
+        return Ok((Calibration::load(&toml_path)?, CalibrationSource::File));
+    }
+    let json_path = dir.join("device.json");
+    if json_path.exists() {
+        return Ok((device_json::load(&json_path)?, CalibrationSource::DeviceJson));
+    }
+    Ok((Calibration::nyu_default(), CalibrationSource::Default))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_fakenect_names() {
+        let e = parse_index(Path::new("INDEX.txt"), "d-1316653580.471513-1316138413.pgm\n\nr-1.5-7.ppm\na-2.0-9.dump\n").unwrap();
+        assert_eq!(e.len(), 3);
+        assert_eq!(e[0].stream, Stream::Depth);
+        assert_eq!(e[0].device_ts, 1316138413);
+        assert!((e[0].unix_time - 1316653580.471513).abs() < 1e-6);
+        assert_eq!(e[1].line, 3);
+    }
+
+    #[test]
+    fn bad_lines_name_the_line() {
+        let err = parse_index(Path::new("rec/INDEX.txt"), "d-1.0-2.pgm\nx-1-2.pgm\n").unwrap_err().to_string();
+        assert!(err.starts_with("rec/INDEX.txt: line 2: 'x-1-2.pgm'"), "{err}");
+        let err = parse_index(Path::new("I"), "d-1.0-99999999999.pgm\n").unwrap_err().to_string();
+        assert!(err.contains("32-bit"), "{err}");
+    }
+
+    #[test]
+    fn pairs_nearest_rgb_by_time() {
+        let e = parse_index(Path::new("I"), "r-0.0-0.ppm\nd-0.04-1.pgm\nr-0.033-2.ppm\nd-0.07-3.pgm\nr-0.1-4.ppm\n").unwrap();
+        let f = pair_frames(&e);
+        assert_eq!(f.len(), 2);
+        assert_eq!(f[0].rgb.as_ref().unwrap().device_ts, 2);
+        assert_eq!(f[1].rgb.as_ref().unwrap().device_ts, 4);
+    }
+}
