@@ -14,8 +14,6 @@ use crate::labels::PIXELS;
 pub struct Params {
     /// Smallest disparity step (pixels) between a hole's bounds that counts as a depth edge.
     pub min_step_px: f64,
-    /// How much narrower than predicted an attached shadow may look (pixels).
-    pub attached_under_px: f64,
     /// How much wider than predicted an attached shadow may look before its far part is OTHER;
     /// the real sensor's correlation window widens shadows by up to ~7 px (SPEC §1).
     pub attached_over_px: f64,
@@ -27,7 +25,7 @@ pub struct Params {
 
 impl Default for Params {
     fn default() -> Self {
-        Params { min_step_px: 1.5, attached_under_px: 4.0, attached_over_px: 8.0, detached_tol_px: 4.0, max_island_px: 2 }
+        Params { min_step_px: 1.5, attached_over_px: 8.0, detached_tol_px: 4.0, max_island_px: 2 }
     }
 }
 

@@ -1,16 +1,465 @@
-//! IR-view scanline classifier (stub, being written).
-use crate::calib::Calibration;
+//! IR-view scanline classifier (Deng et al. 2013, §3): each row is scanned once, left to right.
+//!
+//! The projector sits to the right of the IR camera, so a projector shadow always lies LEFT of its
+//! occluder (SPEC §1). For a hole bounded by valid pixels Sa (left) and Sb (right):
+//! - if Sb is nearer than Sa, the hole is Sb's attached shadow, whose width is predicted by eq. (3)
+//!   `w = disp(Sb) − disp(Sa)`; a hole much wider than that is a shadow merged with another hole,
+//!   and only the part next to the occluder is called ATTACHED;
+//! - otherwise a thin occluder further right may have cast it (detached shadow): its edges Fa, Fb
+//!   must satisfy eqs. (4)–(5), i.e. in projector coordinates the occluder covers the hole exactly;
+//! - anything else is OTHER.
+//!
+//! Disparity is linear in the raw value (see [`crate::calib`]), so all tests run on raw values
+//! scaled by one constant. Everything is on the stack: no allocation per row or frame.
+
 use super::Params;
-/// Precomputed per-calibration constants.
-pub struct ScanParams;
-impl ScanParams {
-    /// Builds them.
-    pub fn new(_c: &Calibration, _p: &Params) -> Self { ScanParams }
+use crate::calib::Calibration;
+use crate::labels::{ATTACHED, DETACHED, NO_DEPTH, OTHER, VALID, WIDTH};
+
+/// Most hole runs a 640-pixel row can hold.
+const MAX_RUNS: usize = WIDTH / 2 + 1;
+
+/// Per-calibration constants of the scanline classifier.
+#[derive(Clone, Debug)]
+pub struct ScanParams {
+    /// Disparity pixels per raw unit (`f·b / numerator`).
+    k: f32,
+    /// Raw value of zero disparity (the model's denominator).
+    den: f32,
+    min_step: f32,
+    over: f32,
+    /// Pixels beyond the predicted width still called ATTACHED when a too-wide hole is split.
+    split_keep: f32,
+    tol: f32,
+    max_island: usize,
+    /// Largest disparity (px) of a surface the sensor can measure (at about 0.4 m).
+    max_disp: f32,
+    /// Raw value assumed for holes with no valid neighbour at all (a surface at 2.5 m).
+    fallback_raw: u16,
 }
-/// Classifies a frame.
-pub fn classify_frame(_p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &mut [u16]) {
-    for ((l, f), r) in labels.iter_mut().zip(filled.iter_mut()).zip(raw) {
-        *l = if *r == 2047 { crate::labels::OTHER } else { 0 };
-        *f = *r;
+
+impl ScanParams {
+    /// Derives the constants from a calibration and thresholds.
+    pub fn new(calib: &Calibration, p: &Params) -> Self {
+        let fallback = calib.raw_from_depth(2.5).round().clamp(0.0, 2046.0) as u16;
+        ScanParams {
+            k: calib.px_per_raw() as f32,
+            den: calib.raw.denominator as f32,
+            min_step: p.min_step_px as f32,
+            over: p.attached_over_px as f32,
+            split_keep: (p.attached_over_px / 2.0) as f32,
+            tol: p.detached_tol_px as f32,
+            max_island: p.max_island_px,
+            max_disp: (calib.fb() / 0.4) as f32,
+            fallback_raw: fallback,
+        }
+    }
+
+    /// Disparity in pixels of a raw value (eq. 3's `disp`).
+    #[inline]
+    fn disp(&self, raw: u16) -> f32 {
+        self.k * (self.den - f32::from(raw))
+    }
+}
+
+/// Classifies a whole frame row by row. `filled` receives the raw values with each hole replaced
+/// by the raw value of the surface it is assumed to lie on (used to warp holes into the RGB view).
+pub fn classify_frame(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &mut [u16]) {
+    // Last valid raw value seen in each column in the rows above: background for holes that touch
+    // the left border, where the row itself has no Sa.
+    let mut column_memory = [NO_DEPTH; WIDTH];
+    for ((row, lab), fill) in raw.chunks_exact(WIDTH).zip(labels.chunks_exact_mut(WIDTH)).zip(filled.chunks_exact_mut(WIDTH)) {
+        classify_row(p, row, &column_memory, lab, fill);
+        for (m, &r) in column_memory.iter_mut().zip(row) {
+            if r != NO_DEPTH {
+                *m = r;
+            }
+        }
+    }
+}
+
+/// A run of pixels `[start, end)`.
+#[derive(Clone, Copy, Debug, Default)]
+struct Run {
+    start: usize,
+    end: usize,
+}
+
+/// Classifies one row: `raw` in, `labels` and `filled` out. `above` holds, per column, the last
+/// valid raw value in the rows above (or 2047).
+pub fn classify_row(p: &ScanParams, raw: &[u16], above: &[u16], labels: &mut [u8], filled: &mut [u16]) {
+    let n = raw.len();
+    for ((l, f), &r) in labels.iter_mut().zip(filled.iter_mut()).zip(raw) {
+        *l = if r == NO_DEPTH { OTHER } else { VALID };
+        *f = r;
+    }
+    let mut holes = [Run::default(); MAX_RUNS];
+    let count = find_holes(raw, &mut holes);
+    let holes = merge_islands(p, raw, &mut holes[..count]);
+
+    for h in holes.iter() {
+        let left = (h.start > 0).then(|| bound_left(raw, h.start));
+        let right = (h.end < n).then(|| bound_right(raw, h.end));
+        match (left, right) {
+            (Some(sa), Some(sb)) => classify_bounded(p, raw, *h, sa, sb, labels, filled),
+            (None, Some(sb)) => classify_left_border(p, raw, *h, sb, above, labels, filled),
+            (Some(sa), None) => fill(filled, *h, sa.far),
+            (None, None) => fill(filled, *h, p.fallback_raw),
+        }
+    }
+}
+
+/// Robust depth of a hole's bound: the farthest (`far`) and nearest (`near`) raw value among up to
+/// three valid pixels next to the hole, so one mixed edge pixel does not decide the class.
+#[derive(Clone, Copy, Debug)]
+struct Bound {
+    /// Raw value of the pixel touching the hole.
+    edge: u16,
+    /// Largest raw value (farthest surface) of the samples.
+    far: u16,
+    /// Smallest raw value (nearest surface) of the samples.
+    near: u16,
+}
+
+fn bound_left(raw: &[u16], start: usize) -> Bound {
+    let edge = raw[start - 1];
+    let (mut far, mut near) = (edge, edge);
+    for &r in raw[..start - 1].iter().rev().take(2).take_while(|&&r| r != NO_DEPTH) {
+        far = far.max(r);
+        near = near.min(r);
+    }
+    Bound { edge, far, near }
+}
+
+fn bound_right(raw: &[u16], end: usize) -> Bound {
+    let edge = raw[end];
+    let (mut far, mut near) = (edge, edge);
+    for &r in raw[end + 1..].iter().take(2).take_while(|&&r| r != NO_DEPTH) {
+        far = far.max(r);
+        near = near.min(r);
+    }
+    Bound { edge, far, near }
+}
+
+fn find_holes(raw: &[u16], out: &mut [Run; MAX_RUNS]) -> usize {
+    let mut count = 0;
+    let mut u = 0;
+    let n = raw.len();
+    while u < n {
+        match raw[u..].iter().position(|&r| r == NO_DEPTH) {
+            None => break,
+            Some(off) => {
+                let start = u + off;
+                let len = raw[start..].iter().position(|&r| r != NO_DEPTH).unwrap_or(n - start);
+                out[count] = Run { start, end: start + len };
+                count += 1;
+                u = start + len;
+            }
+        }
+    }
+    count
+}
+
+/// Joins holes separated by a valid island of at most `max_island` pixels, unless the island is
+/// nearer than both surroundings (then it is a thin object, not noise inside a shadow).
+fn merge_islands<'a>(p: &ScanParams, raw: &[u16], holes: &'a mut [Run]) -> &'a [Run] {
+    if holes.is_empty() {
+        return holes;
+    }
+    let mut kept = 0;
+    for i in 1..holes.len() {
+        let (prev, next) = (holes[kept], holes[i]);
+        let island = &raw[prev.end..next.start];
+        let mergeable = island.len() <= p.max_island && {
+            let island_disp = p.disp(*island.iter().min().unwrap());
+            let left = (prev.start > 0).then(|| p.disp(raw[prev.start - 1]));
+            let right = raw.get(next.end).map(|&r| p.disp(r));
+            let nearer = |d: Option<f32>| d.is_some_and(|d| island_disp > d + p.min_step);
+            !(nearer(left) && nearer(right))
+        };
+        if mergeable {
+            holes[kept].end = next.end;
+        } else {
+            kept += 1;
+            holes[kept] = next;
+        }
+    }
+    &holes[..=kept]
+}
+
+fn set(labels: &mut [u8], raw: &[u16], from: usize, to: usize, code: u8) {
+    // Merged islands keep their VALID label: they have depth.
+    for (l, &r) in labels[from..to].iter_mut().zip(&raw[from..to]) {
+        if r == NO_DEPTH {
+            *l = code;
+        }
+    }
+}
+
+fn fill(filled: &mut [u16], h: Run, value: u16) {
+    for f in &mut filled[h.start..h.end] {
+        if *f == NO_DEPTH {
+            *f = value;
+        }
+    }
+}
+
+/// A hole with valid pixels on both sides.
+fn classify_bounded(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound, labels: &mut [u8], filled: &mut [u16]) {
+    // Shadows lie on the background, so fill with the farther side's depth.
+    fill(filled, h, sa.far.max(sb.far));
+    // Eq. (3): the attached shadow of Sb on the surface of Sa is w = disp(Sb) − disp(Sa) wide.
+    let w = p.disp(sb.near) - p.disp(sa.far);
+    if w >= p.min_step && !same_surface(p, raw, h, sa, sb) {
+        label_attached(p, raw, h, w, labels);
+        return;
+    }
+    if let Some(code) = detached(p, raw, h, sa, sb) {
+        set(labels, raw, h.start, h.end, code);
+    }
+}
+
+/// True when Sb continues the surface of Sa across the hole (a hole on a slanted surface rising
+/// towards the camera, not a depth edge): extrapolate Sa's slope over the hole.
+fn same_surface(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> bool {
+    const SPAN: usize = 4;
+    let a = h.start - 1;
+    let slope = if a >= SPAN && raw[a - SPAN..=a].iter().all(|&r| r != NO_DEPTH) {
+        ((p.disp(sa.edge) - p.disp(raw[a - SPAN])) / SPAN as f32).clamp(-0.5, 0.5)
+    } else {
+        0.0
+    };
+    let predicted = p.disp(sa.edge) + slope * (h.end - a) as f32;
+    (p.disp(sb.edge) - predicted).abs() < p.min_step
+}
+
+/// Labels an attached shadow of predicted width `w` ending at the occluder (`h.end`).
+fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, labels: &mut [u8]) {
+    let width = (h.end - h.start) as f32;
+    if width <= w + p.over {
+        set(labels, raw, h.start, h.end, ATTACHED);
+    } else {
+        // Too wide for one shadow: the shadow is the part next to its occluder, the rest another hole.
+        let keep = ((w + p.split_keep).ceil() as usize).min(h.end - h.start);
+        set(labels, raw, h.end - keep, h.end, ATTACHED);
+    }
+}
+
+/// Detached test, eqs. (4)–(5): look right of the hole for a nearer run [Fa, Fb] whose edges,
+/// shifted by their disparity relative to Sa and Sb, land on the hole's edges.
+fn detached(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> Option<u8> {
+    let n = raw.len();
+    let d_sa = p.disp(sa.far);
+    let d_sb = p.disp(sb.far);
+    let d_bg = d_sa.min(d_sb);
+    let reach = (p.max_disp - d_bg).max(0.0) as usize + 2;
+    let stop = (h.end + reach).min(n);
+    let is_fg = |r: u16| r != NO_DEPTH && p.disp(r) > d_bg + p.min_step;
+    let mut u = h.end;
+    let mut gap_holes = 0;
+    while u < stop {
+        let r = raw[u];
+        if r == NO_DEPTH {
+            // Small dropouts in the lit gap are fine; a large hole ends the search.
+            gap_holes += 1;
+            if gap_holes > 2 {
+                return None;
+            }
+            u += 1;
+            continue;
+        }
+        gap_holes = 0;
+        if is_fg(r) {
+            let fa = u;
+            let mut fb = u;
+            while fb + 1 < n && is_fg(raw[fb + 1]) {
+                fb += 1;
+            }
+            let d_fa = p.disp(raw[fa]).max(p.disp(raw[(fa + 1).min(fb)]));
+            let d_fb = p.disp(raw[fb]).max(p.disp(raw[fb.saturating_sub(1).max(fa)]));
+            // Eq. (4): Fa − Sa = w_s + w_b; eq. (5): Fb − Sb = w_b + w_f (pixel positions).
+            let e4 = (fa as f32 - (h.start as f32 - 1.0)) - (d_fa - d_sa);
+            let e5 = (fb as f32 - h.end as f32) - (d_fb - d_sb);
+            // Pixel sampling puts e4 at about +1 and e5 at about −1 for an ideal shadow.
+            if (e4 - 1.0).abs() <= p.tol && (e5 + 1.0).abs() <= p.tol {
+                return Some(DETACHED);
+            }
+            return None;
+        }
+        u += 1;
+    }
+    None
+}
+
+/// A hole touching the left border: Sa is outside the image, so take the background depth from
+/// the rows above in the hole's columns.
+fn classify_left_border(p: &ScanParams, raw: &[u16], h: Run, sb: Bound, above: &[u16], labels: &mut [u8], filled: &mut [u16]) {
+    let bg = above[h.start..h.end].iter().copied().filter(|&r| r != NO_DEPTH).max();
+    let Some(bg) = bg else {
+        fill(filled, h, sb.far);
+        return;
+    };
+    fill(filled, h, bg.max(sb.far));
+    let w = p.disp(sb.near) - p.disp(bg);
+    if w >= p.min_step {
+        label_attached(p, raw, h, w, labels);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::labels::ALIGNMENT;
+
+    fn params() -> (Calibration, ScanParams) {
+        let c = Calibration::nyu_default();
+        let p = ScanParams::new(&c, &Params::default());
+        (c, p)
+    }
+
+    fn raw_at(c: &Calibration, z: f64) -> u16 {
+        c.raw_from_depth(z).round() as u16
+    }
+
+    fn run(row: &[u16]) -> Vec<u8> {
+        let (_, p) = params();
+        let mut labels = vec![ALIGNMENT; row.len()];
+        let mut filled = vec![0; row.len()];
+        classify_row(&p, row, &[NO_DEPTH; WIDTH], &mut labels, &mut filled);
+        assert!(filled.iter().all(|&f| f < NO_DEPTH), "every hole gets an assumed depth");
+        labels
+    }
+
+    /// Box edge at 1 m before a wall at 3 m: hand-computed width f·b·(1/1 − 1/3) px.
+    fn box_row(extra: usize) -> (Vec<u16>, usize, usize) {
+        let c = Calibration::nyu_default();
+        let w = (c.fb() * (1.0 - 1.0 / 3.0)).round() as usize; // 582.62·0.075·2/3 = 29.1 → 29
+        assert_eq!(w, 29);
+        let mut row = vec![raw_at(&c, 3.0); WIDTH];
+        let edge = 300;
+        for r in &mut row[edge..500] {
+            *r = raw_at(&c, 1.0);
+        }
+        let start = edge - w - extra;
+        for r in &mut row[start..edge] {
+            *r = NO_DEPTH;
+        }
+        (row, start, edge)
+    }
+
+    #[test]
+    fn attached_shadow_of_box_before_wall() {
+        for extra in [0, 2, 6] {
+            let (row, start, edge) = box_row(extra);
+            let l = run(&row);
+            assert!(l[start..edge].iter().all(|&x| x == ATTACHED), "extra {extra}: {:?}", &l[start..edge]);
+            assert!(l[..start].iter().chain(&l[edge..]).all(|&x| x == VALID));
+        }
+    }
+
+    #[test]
+    fn too_wide_hole_keeps_shadow_next_to_occluder() {
+        let (row, start, edge) = box_row(40);
+        let l = run(&row);
+        let attached = l.iter().filter(|&&x| x == ATTACHED).count();
+        assert!((29..=29 + 5).contains(&attached), "{attached}");
+        assert!(l[edge - 29..edge].iter().all(|&x| x == ATTACHED));
+        assert_eq!(l[start], OTHER);
+    }
+
+    #[test]
+    fn hole_on_flat_wall_is_other() {
+        let c = Calibration::nyu_default();
+        let mut row = vec![raw_at(&c, 2.0); WIDTH];
+        for r in &mut row[100..110] {
+            *r = NO_DEPTH;
+        }
+        let l = run(&row);
+        assert!(l[100..110].iter().all(|&x| x == OTHER));
+    }
+
+    #[test]
+    fn hole_right_of_object_is_other() {
+        // Projector shadows never lie right of their occluder.
+        let c = Calibration::nyu_default();
+        let mut row = vec![raw_at(&c, 3.0); WIDTH];
+        for r in &mut row[100..200] {
+            *r = raw_at(&c, 1.0);
+        }
+        for r in &mut row[200..220] {
+            *r = NO_DEPTH;
+        }
+        assert!(run(&row)[200..220].iter().all(|&x| x == OTHER));
+    }
+
+    #[test]
+    fn detached_shadow_of_thin_rod() {
+        // Rod 6 px wide at 1 m before a wall at 3 m: w = 29 px > 6 px, so its shadow [Fa−w, Fb−w]
+        // is detached, with 23 px of lit wall between shadow and rod.
+        let c = Calibration::nyu_default();
+        let w = 29;
+        let mut row = vec![raw_at(&c, 3.0); WIDTH];
+        let (fa, fb) = (300, 305);
+        for r in &mut row[fa..=fb] {
+            *r = raw_at(&c, 1.0);
+        }
+        for r in &mut row[fa - w..=fb - w] {
+            *r = NO_DEPTH;
+        }
+        let l = run(&row);
+        assert!(l[fa - w..=fb - w].iter().all(|&x| x == DETACHED), "{:?}", &l[fa - w - 1..=fb - w + 1]);
+    }
+
+    #[test]
+    fn speckle_far_from_rod_is_other() {
+        let c = Calibration::nyu_default();
+        let mut row = vec![raw_at(&c, 3.0); WIDTH];
+        for r in &mut row[300..306] {
+            *r = raw_at(&c, 1.0);
+        }
+        for r in &mut row[250..256] {
+            *r = NO_DEPTH; // 50 px left of the rod: not where its shadow (29 px) falls
+        }
+        assert!(run(&row)[250..256].iter().all(|&x| x == OTHER));
+    }
+
+    #[test]
+    fn noise_island_inside_shadow_does_not_split_it() {
+        let (mut row, start, edge) = box_row(2);
+        row[start + 10] = row[0]; // one spurious wall pixel inside the shadow
+        let l = run(&row);
+        assert_eq!(l[start + 10], VALID);
+        assert!(l[start..edge].iter().enumerate().all(|(i, &x)| i == 10 || x == ATTACHED));
+    }
+
+    #[test]
+    fn right_border_and_full_rows_are_other() {
+        let c = Calibration::nyu_default();
+        let mut row = vec![raw_at(&c, 2.0); WIDTH];
+        for r in &mut row[632..] {
+            *r = NO_DEPTH;
+        }
+        assert!(run(&row)[632..].iter().all(|&x| x == OTHER));
+        assert!(run(&[NO_DEPTH; WIDTH]).iter().all(|&x| x == OTHER));
+    }
+
+    #[test]
+    fn left_border_uses_rows_above() {
+        let c = Calibration::nyu_default();
+        let (_, p) = params();
+        let wall = raw_at(&c, 3.0);
+        let mut row = vec![wall; WIDTH];
+        for r in &mut row[20..200] {
+            *r = raw_at(&c, 1.0);
+        }
+        for r in &mut row[..20] {
+            *r = NO_DEPTH; // shadow cut by the border: 20 px of a 29 px shadow visible
+        }
+        let mut labels = vec![0; WIDTH];
+        let mut filled = vec![0; WIDTH];
+        classify_row(&p, &row, &[wall; WIDTH], &mut labels, &mut filled);
+        assert!(labels[..20].iter().all(|&x| x == ATTACHED));
+        classify_row(&p, &row, &[NO_DEPTH; WIDTH], &mut labels, &mut filled);
+        assert!(labels[..20].iter().all(|&x| x == OTHER), "no background known: cannot tell");
     }
 }
