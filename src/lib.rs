@@ -15,3 +15,4 @@ pub use calib::Calibration;
 pub use error::{Error, Result};
 pub mod classify;
 pub mod cli;
+pub mod eval;

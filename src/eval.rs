@@ -1,0 +1,591 @@
+//! Scoring labels against ground truth: confusion matrices, per-class and "any shadow" scores
+//! (Deng et al., Table 1), and the ground-truth files `umbra synth` writes (SPEC §4 label PNGs
+//! plus an optional `meta.toml` naming the scene's category).
+//!
+//! The scoring core ([`Confusion`], [`Score`], [`Report`]) is pure; the file helpers at the end
+//! ([`read_label_png`], [`write_label_png`], [`read_category`]) are the only I/O.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::io::BufReader;
+use std::path::Path;
+
+use image::{ImageDecoder, ImageEncoder};
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::labels::{self, ALIGNMENT, ATTACHED, CLASSES, DETACHED, HEIGHT, OTHER, PIXELS, WIDTH};
+
+/// Pixel counts of ground truth (rows) against prediction (columns), for one view.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Confusion {
+    counts: [[u64; CLASSES]; CLASSES],
+}
+
+impl Confusion {
+    /// Counts every pixel pair `(gt[i], pred[i])`. Pairs with a code outside `0..CLASSES` are
+    /// skipped (ground truth is checked on reading, so this only guards against a buggy
+    /// classifier); slices of different lengths are compared over the shorter one.
+    pub fn add(&mut self, gt: &[u8], pred: &[u8]) {
+        for (&g, &p) in gt.iter().zip(pred) {
+            if let Some(row) = self.counts.get_mut(g as usize) {
+                if let Some(c) = row.get_mut(p as usize) {
+                    *c += 1;
+                }
+            }
+        }
+    }
+
+    /// Adds another matrix's counts to this one (frames, recordings, categories pooled).
+    pub fn merge(&mut self, other: &Confusion) {
+        for (row, orow) in self.counts.iter_mut().zip(&other.counts) {
+            for (c, o) in row.iter_mut().zip(orow) {
+                *c += o;
+            }
+        }
+    }
+
+    /// Pixels labelled `gt` in ground truth and `pred` by the classifier.
+    pub fn get(&self, gt: u8, pred: u8) -> u64 {
+        self.counts.get(gt as usize).and_then(|r| r.get(pred as usize)).copied().unwrap_or(0)
+    }
+
+    /// The full matrix, `[gt][pred]`.
+    pub fn counts(&self) -> &[[u64; CLASSES]; CLASSES] {
+        &self.counts
+    }
+
+    /// Pixels counted.
+    pub fn total(&self) -> u64 {
+        self.counts.iter().flatten().sum()
+    }
+
+    /// One class against all others.
+    pub fn class(&self, code: u8) -> Score {
+        self.binary(|c| c == code)
+    }
+
+    /// The paper's "any shadow" score: attached, detached and alignment pooled into one positive
+    /// class, so confusing one shadow kind with another is not an error here.
+    pub fn any_shadow(&self) -> Score {
+        self.binary(labels::is_shadow)
+    }
+
+    fn binary(&self, positive: impl Fn(u8) -> bool) -> Score {
+        let (mut tp, mut support, mut predicted) = (0, 0, 0);
+        for g in 0..CLASSES as u8 {
+            for p in 0..CLASSES as u8 {
+                let n = self.get(g, p);
+                if positive(g) {
+                    support += n;
+                }
+                if positive(p) {
+                    predicted += n;
+                }
+                if positive(g) && positive(p) {
+                    tp += n;
+                }
+            }
+        }
+        Score::from_counts(tp, support, predicted)
+    }
+}
+
+/// Precision, recall and F1 of one positive class. A ratio whose denominator is zero is `None`
+/// (shown as "—", `null` in JSON) rather than NaN.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Score {
+    /// Correct predictions over all predictions of the class; `None` if it was never predicted.
+    pub precision: Option<f64>,
+    /// Correct predictions over ground-truth pixels of the class; `None` if there are none.
+    pub recall: Option<f64>,
+    /// `2·TP / (2·TP + FP + FN)`: 0 when the classifier misses everything or invents everything,
+    /// `None` only when the class is absent from both ground truth and prediction.
+    pub f1: Option<f64>,
+    /// Ground-truth pixels of the class.
+    pub support: u64,
+    /// Pixels the classifier gave the class.
+    pub predicted: u64,
+    /// Pixels in both.
+    pub true_positives: u64,
+}
+
+impl Score {
+    /// Scores from true positives, ground-truth count and predicted count.
+    pub fn from_counts(tp: u64, support: u64, predicted: u64) -> Score {
+        let ratio = |n: u64, d: u64| (d > 0).then(|| n as f64 / d as f64);
+        Score {
+            precision: ratio(tp, predicted),
+            recall: ratio(tp, support),
+            // FP + FN = (predicted − tp) + (support − tp).
+            f1: ratio(2 * tp, support + predicted),
+            support,
+            predicted,
+            true_positives: tp,
+        }
+    }
+}
+
+/// One camera view's labels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum View {
+    /// The IR (depth) camera's view: `<i>.depth.png`.
+    Ir,
+    /// The RGB camera's view: `<i>.rgb.png`.
+    Rgb,
+}
+
+impl View {
+    /// Both views, in report order.
+    pub const ALL: [View; 2] = [View::Ir, View::Rgb];
+
+    /// Short name used in tables and JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            View::Ir => "ir",
+            View::Rgb => "rgb",
+        }
+    }
+
+    /// The hole classes scored in this view: alignment shadows exist only in the RGB view.
+    pub fn classes(self) -> &'static [u8] {
+        match self {
+            View::Ir => &[ATTACHED, DETACHED, OTHER],
+            View::Rgb => &[ATTACHED, DETACHED, ALIGNMENT, OTHER],
+        }
+    }
+}
+
+/// Scene category from the ground truth's `meta.toml` (the paper reports both separately).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Category {
+    /// A few objects in front of a wall.
+    Simple,
+    /// Cluttered scenes.
+    Complex,
+}
+
+impl Category {
+    /// The name used in `meta.toml`, tables and JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Category::Simple => "simple",
+            Category::Complex => "complex",
+        }
+    }
+}
+
+/// Both views' confusion matrices over some set of frames.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Tally {
+    /// Frames counted.
+    pub frames: u64,
+    /// IR-view matrix.
+    pub ir: Confusion,
+    /// RGB-view matrix.
+    pub rgb: Confusion,
+}
+
+impl Tally {
+    /// Counts one frame: ground truth and prediction in both views.
+    pub fn add_frame(&mut self, gt_ir: &[u8], pred_ir: &[u8], gt_rgb: &[u8], pred_rgb: &[u8]) {
+        self.frames += 1;
+        self.ir.add(gt_ir, pred_ir);
+        self.rgb.add(gt_rgb, pred_rgb);
+    }
+
+    /// Adds another tally.
+    pub fn merge(&mut self, other: &Tally) {
+        self.frames += other.frames;
+        self.ir.merge(&other.ir);
+        self.rgb.merge(&other.rgb);
+    }
+
+    /// The matrix of one view.
+    pub fn view(&self, v: View) -> &Confusion {
+        match v {
+            View::Ir => &self.ir,
+            View::Rgb => &self.rgb,
+        }
+    }
+}
+
+/// Accumulates tallies per recording and groups them into "all" and per-category results.
+#[derive(Clone, Debug, Default)]
+pub struct Report {
+    recordings: Vec<(String, Option<Category>, Tally)>,
+}
+
+impl Report {
+    /// Adds one recording's tally under its name and category (`None`: no `meta.toml`).
+    pub fn add_recording(&mut self, name: impl Into<String>, category: Option<Category>, tally: Tally) {
+        self.recordings.push((name.into(), category, tally));
+    }
+
+    /// The groups to report, in order: `all`, then each category that occurs.
+    pub fn groups(&self) -> Vec<(&'static str, Tally)> {
+        let mut all = Tally::default();
+        let mut by_cat: BTreeMap<Category, Tally> = BTreeMap::new();
+        for (_, cat, t) in &self.recordings {
+            all.merge(t);
+            if let Some(c) = cat {
+                by_cat.entry(*c).or_default().merge(t);
+            }
+        }
+        let mut out = vec![("all", all)];
+        out.extend(by_cat.into_iter().map(|(c, t)| (c.name(), t)));
+        out
+    }
+
+    /// An aligned plain-text table: one block per group, one row per view and class, then the
+    /// view's "any shadow" row.
+    pub fn to_table(&self) -> String {
+        let mut s = String::new();
+        let n = self.recordings.len();
+        let frames: u64 = self.recordings.iter().map(|r| r.2.frames).sum();
+        let _ = writeln!(s, "{n} recording{}, {frames} frame{}", plural(n as u64), plural(frames));
+        for (name, tally) in self.groups() {
+            let recs = self.recordings.iter().filter(|r| name == "all" || r.1.map(Category::name) == Some(name)).count();
+            let _ = writeln!(s, "\n{name}: {recs} recording{}, {} frame{}", plural(recs as u64), tally.frames, plural(tally.frames));
+            let _ = writeln!(
+                s,
+                "{:<5} {:<11} {:>9} {:>9} {:>9} {:>12} {:>12}",
+                "view", "class", "precision", "recall", "f1", "support", "predicted"
+            );
+            for v in View::ALL {
+                let m = tally.view(v);
+                let rows = v.classes().iter().map(|&c| (labels::NAMES[c as usize], m.class(c)));
+                for (class, sc) in rows.chain([("any shadow", m.any_shadow())]) {
+                    let _ = writeln!(
+                        s,
+                        "{:<5} {:<11} {:>9} {:>9} {:>9} {:>12} {:>12}",
+                        v.name(),
+                        class,
+                        fmt_ratio(sc.precision),
+                        fmt_ratio(sc.recall),
+                        fmt_ratio(sc.f1),
+                        sc.support,
+                        sc.predicted
+                    );
+                }
+            }
+        }
+        s
+    }
+
+    /// The same numbers as [`Report::to_table`] as one JSON value, plus each view's confusion
+    /// matrix (`[gt][pred]`, codes 0–4) and each recording's name, category and frame count.
+    pub fn to_json(&self) -> serde_json::Value {
+        #[derive(Serialize)]
+        struct ViewJson {
+            pixels: u64,
+            classes: BTreeMap<&'static str, Score>,
+            any_shadow: Score,
+            confusion: [[u64; CLASSES]; CLASSES],
+        }
+        #[derive(Serialize)]
+        struct GroupJson {
+            frames: u64,
+            ir: ViewJson,
+            rgb: ViewJson,
+        }
+        #[derive(Serialize)]
+        struct RecJson<'a> {
+            name: &'a str,
+            category: Option<Category>,
+            frames: u64,
+        }
+        let view = |m: &Confusion, v: View| ViewJson {
+            pixels: m.total(),
+            classes: v.classes().iter().map(|&c| (labels::NAMES[c as usize], m.class(c))).collect(),
+            any_shadow: m.any_shadow(),
+            confusion: *m.counts(),
+        };
+        let groups: BTreeMap<&str, GroupJson> = self
+            .groups()
+            .into_iter()
+            .map(|(name, t)| (name, GroupJson { frames: t.frames, ir: view(&t.ir, View::Ir), rgb: view(&t.rgb, View::Rgb) }))
+            .collect();
+        let recs: Vec<RecJson> =
+            self.recordings.iter().map(|(n, c, t)| RecJson { name: n, category: *c, frames: t.frames }).collect();
+        serde_json::json!({ "recordings": recs, "groups": groups })
+    }
+}
+
+fn plural(n: u64) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
+/// Three decimals, or "—" for an undefined ratio.
+fn fmt_ratio(r: Option<f64>) -> String {
+    r.map_or_else(|| "—".to_string(), |v| format!("{v:.3}"))
+}
+
+/// Reads a SPEC §4 label PNG (640×480, 8-bit grey, values 0–4) into `out` (640·480 codes).
+pub fn read_label_png(path: &Path, out: &mut [u8]) -> Result<()> {
+    assert_eq!(out.len(), PIXELS, "a label frame has 640x480 codes");
+    let file = match std::fs::File::open(path) {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(Error::input(path, "", "missing: ground truth needs a label PNG for every depth frame"))
+        }
+        Err(e) => return Err(Error::io(path, "reading", e)),
+    };
+    let bad_png = |e: image::ImageError| Error::input(path, "", format!("not a readable 8-bit grey PNG: {e}"));
+    let dec = image::codecs::png::PngDecoder::new(BufReader::new(file)).map_err(bad_png)?;
+    let (w, h) = dec.dimensions();
+    if (w as usize, h as usize) != (WIDTH, HEIGHT) {
+        return Err(Error::input(path, "header", format!("size {w}x{h} is wrong, expected {WIDTH}x{HEIGHT}")));
+    }
+    if dec.color_type() != image::ColorType::L8 {
+        return Err(Error::input(
+            path,
+            "header",
+            format!("colour type {:?} is wrong, expected 8-bit grey (L8) with one label code per pixel", dec.color_type()),
+        ));
+    }
+    dec.read_image(out).map_err(bad_png)?;
+    if let Some(i) = out.iter().position(|&v| v as usize >= CLASSES) {
+        return Err(Error::input(
+            path,
+            format!("pixel ({}, {})", i % WIDTH, i / WIDTH),
+            format!("value {} is not a label code, expected 0-{} (SPEC §2)", out[i], CLASSES - 1),
+        ));
+    }
+    Ok(())
+}
+
+/// Writes labels as a SPEC §4 PNG. The file appears whole or not at all: it is written beside
+/// the target and renamed, so an interrupted run never leaves a truncated PNG.
+pub fn write_label_png(path: &Path, labels: &[u8]) -> Result<()> {
+    assert_eq!(labels.len(), PIXELS, "a label frame has 640x480 codes");
+    let mut buf = Vec::with_capacity(PIXELS / 8);
+    image::codecs::png::PngEncoder::new(&mut buf)
+        .write_image(labels, WIDTH as u32, HEIGHT as u32, image::ExtendedColorType::L8)
+        .map_err(|e| Error::input(path, "", format!("encoding PNG failed: {e}")))?;
+    write_atomically(path, &buf)
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same folder and a rename.
+pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".part");
+    let tmp = std::path::PathBuf::from(tmp);
+    std::fs::write(&tmp, bytes).map_err(|e| Error::io(path, "writing", e))?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        Error::io(path, "writing", e)
+    })
+}
+
+/// Reads the `category` key of a ground-truth `meta.toml`; `Ok(None)` when the file or the key is
+/// absent. Other keys are ignored.
+pub fn read_category(path: &Path) -> Result<Option<Category>> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(Error::io(path, "reading", e)),
+    };
+    parse_category(&text, path)
+}
+
+/// Parses the `category` key of `meta.toml` text; `path` is only used in error messages.
+pub fn parse_category(text: &str, path: &Path) -> Result<Option<Category>> {
+    let table: toml::Table = toml::from_str(text).map_err(|e| Error::input(path, "", format!("not valid TOML: {}", e.message())))?;
+    match table.get("category") {
+        None => Ok(None),
+        Some(toml::Value::String(s)) if s == "simple" => Ok(Some(Category::Simple)),
+        Some(toml::Value::String(s)) if s == "complex" => Ok(Some(Category::Complex)),
+        Some(v) => Err(Error::input(path, "key category", format!("value {v} is wrong, expected \"simple\" or \"complex\""))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::labels::VALID;
+
+    const A: u8 = ATTACHED;
+    const D: u8 = DETACHED;
+    const G: u8 = ALIGNMENT;
+    const O: u8 = OTHER;
+    const V: u8 = VALID;
+
+    fn close(a: Option<f64>, b: f64) -> bool {
+        a.is_some_and(|a| (a - b).abs() < 1e-12)
+    }
+
+    #[test]
+    fn per_class_scores_by_hand() {
+        //            0  1  2  3  4  5  6  7  8  9
+        let gt = [A, A, A, A, D, D, O, V, V, O];
+        let pr = [A, A, A, D, D, O, O, A, V, V];
+        let mut m = Confusion::default();
+        m.add(&gt, &pr);
+        assert_eq!(m.total(), 10);
+        // Attached: gt at 0..4 (4), predicted at 0,1,2,7 (4), both at 0,1,2 (3).
+        let a = m.class(A);
+        assert_eq!((a.true_positives, a.support, a.predicted), (3, 4, 4));
+        assert!(close(a.precision, 0.75) && close(a.recall, 0.75) && close(a.f1, 0.75));
+        // Detached: gt 4,5; predicted 3,4; both 4 → P = R = 1/2.
+        let d = m.class(D);
+        assert!(close(d.precision, 0.5) && close(d.recall, 0.5) && close(d.f1, 0.5));
+        // Other: gt 6,9; predicted 5,6 → P = 1/2, R = 1/2.
+        let o = m.class(O);
+        assert!(close(o.precision, 0.5) && close(o.recall, 0.5));
+        // Any shadow: gt {0..5} = 6, predicted {0,1,2,3,4,7} = 6, both {0..4} = 5.
+        let s = m.any_shadow();
+        assert_eq!((s.true_positives, s.support, s.predicted), (5, 6, 6));
+        assert!(close(s.precision, 5.0 / 6.0) && close(s.recall, 5.0 / 6.0));
+    }
+
+    #[test]
+    fn any_shadow_pools_shadow_kinds() {
+        // Every shadow pixel gets the wrong shadow kind: per-class scores are 0, pooled are 1.
+        let gt = [A, D, G, V];
+        let pr = [D, G, A, V];
+        let mut m = Confusion::default();
+        m.add(&gt, &pr);
+        assert!(close(m.class(A).recall, 0.0) && close(m.class(A).f1, 0.0));
+        let s = m.any_shadow();
+        assert!(close(s.precision, 1.0) && close(s.recall, 1.0) && close(s.f1, 1.0));
+    }
+
+    #[test]
+    fn precision_and_recall_differ() {
+        // Alignment: 2 in gt, predicted 4 times, 2 right → P = 1/2, R = 1, F1 = 2/3.
+        let gt = [G, G, V, V, O, V];
+        let pr = [G, G, G, G, O, V];
+        let mut m = Confusion::default();
+        m.add(&gt, &pr);
+        let g = m.class(G);
+        assert!(close(g.precision, 0.5) && close(g.recall, 1.0) && close(g.f1, 2.0 / 3.0));
+    }
+
+    #[test]
+    fn absent_classes_are_undefined_not_nan() {
+        let mut m = Confusion::default();
+        m.add(&[V, O], &[V, O]);
+        let d = m.class(D);
+        assert_eq!((d.precision, d.recall, d.f1), (None, None, None));
+        // Never predicted but present: recall 0, precision undefined, F1 0.
+        m.add(&[A], &[V]);
+        let a = m.class(A);
+        assert_eq!((a.precision, a.recall, a.f1), (None, Some(0.0), Some(0.0)));
+        let table = {
+            let mut r = Report::default();
+            let mut t = Tally::default();
+            t.add_frame(&[V, O], &[V, O], &[V, O], &[V, O]);
+            r.add_recording("x", None, t);
+            r.to_table()
+        };
+        assert!(table.contains('—') && !table.contains("NaN"), "{table}");
+        let json = Report::default().to_json().to_string();
+        assert!(!json.contains("NaN"), "{json}");
+    }
+
+    #[test]
+    fn merge_adds_counts_and_skips_bad_codes() {
+        let mut a = Confusion::default();
+        a.add(&[A, V, 9], &[A, 7, V]);
+        assert_eq!(a.total(), 1);
+        let mut b = Confusion::default();
+        b.add(&[A, O], &[O, O]);
+        a.merge(&b);
+        assert_eq!(a.get(A, A), 1);
+        assert_eq!(a.get(A, O), 1);
+        assert_eq!(a.get(O, O), 1);
+        assert_eq!(a.total(), 3);
+    }
+
+    #[test]
+    fn report_groups_by_category() {
+        let frame = |gt: u8, pr: u8| {
+            let mut t = Tally::default();
+            t.add_frame(&[gt], &[pr], &[gt], &[pr]);
+            t
+        };
+        let mut r = Report::default();
+        r.add_recording("s1", Some(Category::Simple), frame(A, A));
+        r.add_recording("c1", Some(Category::Complex), frame(A, V));
+        r.add_recording("n", None, frame(D, D));
+        let g = r.groups();
+        let names: Vec<_> = g.iter().map(|(n, _)| *n).collect();
+        assert_eq!(names, ["all", "simple", "complex"]);
+        assert_eq!(g[0].1.frames, 3);
+        assert!(close(g[0].1.ir.class(A).recall, 0.5));
+        assert!(close(g[1].1.ir.class(A).recall, 1.0));
+        assert!(close(g[2].1.rgb.class(A).recall, 0.0));
+        let j = r.to_json();
+        assert_eq!(j["groups"]["simple"]["ir"]["classes"]["attached"]["recall"], 1.0);
+        assert_eq!(j["groups"]["all"]["rgb"]["classes"]["detached"]["precision"], 1.0);
+        assert!(j["groups"]["all"]["ir"]["classes"].get("alignment").is_none());
+        assert_eq!(j["recordings"][1]["category"], "complex");
+        let t = r.to_table();
+        assert!(t.starts_with("3 recordings, 3 frames"), "{t}");
+        assert!(t.contains("\nsimple: 1 recording, 1 frame\n"), "{t}");
+    }
+
+    #[test]
+    fn table_columns_line_up() {
+        let mut r = Report::default();
+        let mut t = Tally::default();
+        t.add_frame(&[A, V], &[A, A], &[G, V], &[V, G]);
+        r.add_recording("x", None, t);
+        let table = r.to_table();
+        let widths: Vec<usize> = table.lines().filter(|l| l.starts_with("ir ") || l.starts_with("rgb ") || l.starts_with("view"))
+            .map(|l| l.chars().count())
+            .collect();
+        assert_eq!(widths.len(), 1 + 4 + 5);
+        assert!(widths.iter().all(|&w| w == widths[0]), "{table}");
+    }
+
+    #[test]
+    fn label_png_round_trip_and_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut labels = vec![V; PIXELS];
+        labels[5] = A;
+        labels[WIDTH + 7] = O;
+        let p = dir.path().join("000000.depth.png");
+        write_label_png(&p, &labels).unwrap();
+        let mut back = vec![9; PIXELS];
+        read_label_png(&p, &mut back).unwrap();
+        assert_eq!(back, labels);
+
+        let e = read_label_png(&dir.path().join("nope.png"), &mut back).unwrap_err().to_string();
+        assert!(e.contains("nope.png") && e.contains("missing"), "{e}");
+
+        labels[WIDTH * 2 + 3] = 5;
+        write_label_png(&p, &labels).unwrap();
+        let e = read_label_png(&p, &mut back).unwrap_err().to_string();
+        assert!(e.contains("pixel (3, 2)") && e.contains("value 5"), "{e}");
+
+        image::RgbImage::new(640, 480).save(&p).unwrap();
+        let e = read_label_png(&p, &mut back).unwrap_err().to_string();
+        assert!(e.contains("colour type") && e.contains("8-bit grey"), "{e}");
+        image::GrayImage::new(320, 240).save(&p).unwrap();
+        let e = read_label_png(&p, &mut back).unwrap_err().to_string();
+        assert!(e.contains("320x240"), "{e}");
+        std::fs::write(&p, b"not a png").unwrap();
+        let e = read_label_png(&p, &mut back).unwrap_err().to_string();
+        assert!(e.contains("PNG") && !e.contains('\n'), "{e}");
+    }
+
+    #[test]
+    fn meta_category() {
+        let p = Path::new("meta.toml");
+        assert_eq!(parse_category("category = \"simple\"\nseed = 3\n", p).unwrap(), Some(Category::Simple));
+        assert_eq!(parse_category("category = \"complex\"", p).unwrap(), Some(Category::Complex));
+        assert_eq!(parse_category("seed = 3", p).unwrap(), None);
+        let e = parse_category("category = \"hard\"", p).unwrap_err().to_string();
+        assert!(e.starts_with("meta.toml: key category:") && e.contains("simple"), "{e}");
+        assert!(parse_category("category = ", p).is_err());
+        assert_eq!(read_category(Path::new("/nonexistent/meta.toml")).unwrap(), None);
+    }
+}
