@@ -16,3 +16,4 @@ pub use error::{Error, Result};
 pub mod classify;
 pub mod cli;
 pub mod eval;
+pub mod render;
