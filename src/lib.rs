@@ -10,6 +10,7 @@ pub mod calib;
 pub mod error;
 pub mod labels;
 pub mod recording;
+pub mod synth;
 
 pub use calib::Calibration;
 pub use error::{Error, Result};
