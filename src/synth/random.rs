@@ -54,20 +54,43 @@ impl Wall {
     }
 }
 
+/// The floor: camera height above it and the camera's downward pitch (the floor plane is tilted
+/// in the camera frame, so it shows from about 1.5 m on, as for a Kinect on a table or tripod).
+#[derive(Clone, Copy)]
+struct Floor {
+    h: f64,
+    pitch: f64,
+}
+
+impl Floor {
+    fn random(rng: &mut ChaCha8Rng) -> Self {
+        Floor { h: rng.random_range(0.7..1.3), pitch: rng.random_range(0.05..0.2) }
+    }
+
+    /// The y of the floor under the point at depth `z`.
+    fn y_at(&self, z: f64) -> f64 {
+        (self.h - z * self.pitch.sin()) / self.pitch.cos()
+    }
+
+    fn push(&self, s: &mut Scene, rng: &mut ChaCha8Rng, parts: &mut Vec<String>) {
+        s.push("floor", floor(self.h, self.pitch), Material::matte(pale(rng)));
+        parts.push(format!("floor {:.2} m below (camera pitched {:.2} rad down)", self.h, self.pitch));
+    }
+}
+
 fn simple(rng: &mut ChaCha8Rng) -> Scene {
     let wall = Wall { z: rng.random_range(2.2..4.2), yaw: rng.random_range(-0.15..0.15) };
     let mut parts = vec![format!("wall at {:.2} m (yaw {:.2})", wall.z, wall.yaw)];
     let mut s = Scene::new("");
     s.push("wall", slanted_wall(wall.z, wall.yaw), Material::matte(pale(rng)));
-    let floor_y = rng.random_bool(0.5).then(|| rng.random_range(0.6..1.2));
-    if let Some(y) = floor_y {
-        s.push("floor", floor(y), Material::matte(pale(rng)));
-        parts.push(format!("floor {y:.2} m below"));
+    let ground = rng.random_bool(0.5).then(|| Floor::random(rng));
+    if let Some(f) = ground {
+        f.push(&mut s, rng, &mut parts);
     }
     let kind = ["box", "cylinder", "sphere", "rod"][rng.random_range(0..4)];
     let z_front = rng.random_range(0.8..(wall.z - 0.6).min(3.2));
     let x = rng.random_range(-0.25..0.25) * z_front;
-    let mut shape = random_shape(rng, kind, x, z_front, floor_y);
+    let mut shape = random_shape(rng, kind, x, z_front, ground);
     keep_before_wall(&mut shape, &wall);
     parts.push(format!("{kind} at {:.2} m", front_z(&shape)));
     let o = s.push(kind, shape, Material { albedo: rng.random_range(0.4..0.95), ..Material::matte(vivid(rng)) });
@@ -113,10 +136,9 @@ fn complex(rng: &mut ChaCha8Rng) -> Scene {
     if variant != 2 {
         s.push("wall", slanted_wall(wall.z, wall.yaw), Material::matte(pale(rng)));
     }
-    let floor_y = rng.random_bool(0.7).then(|| rng.random_range(0.7..1.3));
-    if let Some(y) = floor_y {
-        s.push("floor", floor(y), Material::matte(pale(rng)));
-        parts.push(format!("floor {y:.2} m below"));
+    let ground = rng.random_bool(0.7).then(|| Floor::random(rng));
+    if let Some(f) = ground {
+        f.push(&mut s, rng, &mut parts);
     }
     if rng.random_bool(0.5) {
         // A black (or, sometimes, glossy) poster a few mm before the wall: shadows falling on it
@@ -149,7 +171,7 @@ fn complex(rng: &mut ChaCha8Rng) -> Scene {
         } else {
             rng.random_range(-0.45..0.45) * z_front
         };
-        let mut shape = random_shape(rng, kind, x, z_front, floor_y);
+        let mut shape = random_shape(rng, kind, x, z_front, ground);
         keep_before_wall(&mut shape, &wall);
         let roll = rng.random::<f64>();
         let (material, tag) = if roll < 0.12 {
@@ -167,20 +189,31 @@ fn complex(rng: &mut ChaCha8Rng) -> Scene {
     s
 }
 
-/// A shape of `kind` whose nearest point is at about `z_front`, centred laterally at `x`; it rests
-/// on the floor half of the time when there is one.
-fn random_shape(rng: &mut ChaCha8Rng, kind: &str, x: f64, z_front: f64, floor_y: Option<f64>) -> Shape {
-    let rests = floor_y.filter(|_| rng.random_bool(0.5));
-    let free_y = |rng: &mut ChaCha8Rng| rng.random_range(-0.6..0.6) * TAN_HALF_FOV.1 * z_front;
+/// A shape of `kind` whose nearest point is at about `z_front`, centred laterally at `x`; half of
+/// the time when there is a floor it stands on it (if it then still shows in the image).
+fn random_shape(rng: &mut ChaCha8Rng, kind: &str, x: f64, z_front: f64, ground: Option<Floor>) -> Shape {
+    let wants_floor = rng.random_bool(0.5);
+    // Floating: anywhere in the middle of the image, but above the floor.
+    let free_y = |rng: &mut ChaCha8Rng, z: f64, hh: f64| {
+        let y = rng.random_range(-0.6..0.6) * TAN_HALF_FOV.1 * z_front;
+        ground.map_or(y, |f| y.min(f.y_at(z) - hh - 0.02))
+    };
+    // Centre y standing on the floor at depth z with half-height hh, if its top is in view.
+    let on_floor = |z: f64, hh: f64| {
+        let f = ground.filter(|_| wants_floor)?;
+        let y = f.y_at(z) - hh - 0.001;
+        (y - hh < 0.8 * TAN_HALF_FOV.1 * z).then_some(y)
+    };
     match kind {
         "box" => {
             let half = V3::new(rng.random_range(0.08..0.3), rng.random_range(0.08..0.35), rng.random_range(0.05..0.2));
-            let y = rests.map_or_else(|| free_y(rng), |f| f - half.y - 0.001);
-            Shape::Box { centre: V3::new(x, y, z_front + half.z), half, yaw: rng.random_range(-0.7..0.7) }
+            let z = z_front + half.z;
+            let y = on_floor(z, half.y).unwrap_or_else(|| free_y(rng, z, half.y));
+            Shape::Box { centre: V3::new(x, y, z), half, yaw: rng.random_range(-0.7..0.7) }
         }
         "sphere" => {
             let r = rng.random_range(0.07..0.3);
-            let y = rests.map_or_else(|| free_y(rng), |f| f - r - 0.001);
+            let y = on_floor(z_front + r, r).unwrap_or_else(|| free_y(rng, z_front + r, r));
             Shape::Sphere { centre: V3::new(x, y, z_front + r), radius: r }
         }
         "cylinder" | "rod" => {
@@ -196,11 +229,9 @@ fn random_shape(rng: &mut ChaCha8Rng, kind: &str, x: f64, z_front: f64, floor_y:
             } else {
                 V3::new(0.0, 1.0, 0.0)
             };
-            let y = match rests {
-                Some(f) if !tilted => f - half_len - 0.001,
-                _ => free_y(rng),
-            };
             let dz = r + half_len * axis.z.abs();
+            let hh = half_len * axis.y.abs() + r;
+            let y = if tilted { None } else { on_floor(z_front + dz, half_len) }.unwrap_or_else(|| free_y(rng, z_front + dz, hh));
             Shape::Cylinder { centre: V3::new(x, y, z_front + dz), axis, radius: r, half_len }
         }
         _ => unreachable!("unknown kind {kind}"),

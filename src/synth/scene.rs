@@ -68,9 +68,11 @@ pub fn slanted_wall(z_wall: f64, yaw: f64) -> Shape {
     Shape::Plane { normal, offset: normal.dot(&V3::new(0.0, 0.0, z_wall)) }
 }
 
-/// A floor `floor_y` metres below the camera (y points down).
-pub fn floor(floor_y: f64) -> Shape {
-    Shape::Plane { normal: V3::new(0.0, -1.0, 0.0), offset: -floor_y }
+/// A floor `h` metres below the camera, seen by a camera pitched `pitch` radians down: in the
+/// camera frame (y down) the floor's up vector is `(0, −cos pitch, −sin pitch)`, so the optical
+/// axis meets the floor `h / sin(pitch)` metres away.
+pub fn floor(h: f64, pitch: f64) -> Shape {
+    Shape::Plane { normal: V3::new(0.0, -pitch.cos(), -pitch.sin()), offset: -h }
 }
 
 impl Scene {
