@@ -2,19 +2,17 @@
 //! (Deng et al., Table 1), and the ground-truth files `umbra synth` writes (SPEC §4 label PNGs
 //! plus an optional `meta.toml` naming the scene's category).
 //!
-//! The scoring core ([`Confusion`], [`Score`], [`Report`]) is pure; the file helpers at the end
-//! ([`read_label_png`], [`write_label_png`], [`read_category`]) are the only I/O.
+//! The scoring core ([`Confusion`], [`Score`], [`Report`]) is pure; [`read_category`] is the only
+//! I/O here (label PNGs are read and written by [`crate::sink::labels`]).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::io::BufReader;
 use std::path::Path;
 
-use image::{ImageDecoder, ImageEncoder};
 use serde::Serialize;
 
 use crate::error::{Error, Result};
-use crate::labels::{self, ALIGNMENT, ATTACHED, CLASSES, DETACHED, HEIGHT, OTHER, PIXELS, WIDTH};
+use crate::labels::{self, ALIGNMENT, ATTACHED, CLASSES, DETACHED, OTHER};
 
 /// Pixel counts of ground truth (rows) against prediction (columns), for one view.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -327,63 +325,6 @@ fn fmt_ratio(r: Option<f64>) -> String {
     r.map_or_else(|| "—".to_string(), |v| format!("{v:.3}"))
 }
 
-/// Reads a SPEC §4 label PNG (640×480, 8-bit grey, values 0–4) into `out` (640·480 codes).
-pub fn read_label_png(path: &Path, out: &mut [u8]) -> Result<()> {
-    assert_eq!(out.len(), PIXELS, "a label frame has 640x480 codes");
-    let file = match std::fs::File::open(path) {
-        Ok(f) => f,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return Err(Error::input(path, "", "missing: ground truth needs a label PNG for every depth frame"))
-        }
-        Err(e) => return Err(Error::io(path, "reading", e)),
-    };
-    let bad_png = |e: image::ImageError| Error::input(path, "", format!("not a readable 8-bit grey PNG: {e}"));
-    let dec = image::codecs::png::PngDecoder::new(BufReader::new(file)).map_err(bad_png)?;
-    let (w, h) = dec.dimensions();
-    if (w as usize, h as usize) != (WIDTH, HEIGHT) {
-        return Err(Error::input(path, "header", format!("size {w}x{h} is wrong, expected {WIDTH}x{HEIGHT}")));
-    }
-    if dec.color_type() != image::ColorType::L8 {
-        return Err(Error::input(
-            path,
-            "header",
-            format!("colour type {:?} is wrong, expected 8-bit grey (L8) with one label code per pixel", dec.color_type()),
-        ));
-    }
-    dec.read_image(out).map_err(bad_png)?;
-    if let Some(i) = out.iter().position(|&v| v as usize >= CLASSES) {
-        return Err(Error::input(
-            path,
-            format!("pixel ({}, {})", i % WIDTH, i / WIDTH),
-            format!("value {} is not a label code, expected 0-{} (SPEC §2)", out[i], CLASSES - 1),
-        ));
-    }
-    Ok(())
-}
-
-/// Writes labels as a SPEC §4 PNG. The file appears whole or not at all: it is written beside
-/// the target and renamed, so an interrupted run never leaves a truncated PNG.
-pub fn write_label_png(path: &Path, labels: &[u8]) -> Result<()> {
-    assert_eq!(labels.len(), PIXELS, "a label frame has 640x480 codes");
-    let mut buf = Vec::with_capacity(PIXELS / 8);
-    image::codecs::png::PngEncoder::new(&mut buf)
-        .write_image(labels, WIDTH as u32, HEIGHT as u32, image::ExtendedColorType::L8)
-        .map_err(|e| Error::input(path, "", format!("encoding PNG failed: {e}")))?;
-    write_atomically(path, &buf)
-}
-
-/// Writes `bytes` to `path` through a temporary file in the same folder and a rename.
-pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".part");
-    let tmp = std::path::PathBuf::from(tmp);
-    std::fs::write(&tmp, bytes).map_err(|e| Error::io(path, "writing", e))?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        Error::io(path, "writing", e)
-    })
-}
-
 /// Reads the `category` key of a ground-truth `meta.toml`; `Ok(None)` when the file or the key is
 /// absent. Other keys are ignored.
 pub fn read_category(path: &Path) -> Result<Option<Category>> {
@@ -544,37 +485,6 @@ mod tests {
             .collect();
         assert_eq!(widths.len(), 1 + 4 + 5);
         assert!(widths.iter().all(|&w| w == widths[0]), "{table}");
-    }
-
-    #[test]
-    fn label_png_round_trip_and_errors() {
-        let dir = tempfile::tempdir().unwrap();
-        let mut labels = vec![V; PIXELS];
-        labels[5] = A;
-        labels[WIDTH + 7] = O;
-        let p = dir.path().join("000000.depth.png");
-        write_label_png(&p, &labels).unwrap();
-        let mut back = vec![9; PIXELS];
-        read_label_png(&p, &mut back).unwrap();
-        assert_eq!(back, labels);
-
-        let e = read_label_png(&dir.path().join("nope.png"), &mut back).unwrap_err().to_string();
-        assert!(e.contains("nope.png") && e.contains("missing"), "{e}");
-
-        labels[WIDTH * 2 + 3] = 5;
-        write_label_png(&p, &labels).unwrap();
-        let e = read_label_png(&p, &mut back).unwrap_err().to_string();
-        assert!(e.contains("pixel (3, 2)") && e.contains("value 5"), "{e}");
-
-        image::RgbImage::new(640, 480).save(&p).unwrap();
-        let e = read_label_png(&p, &mut back).unwrap_err().to_string();
-        assert!(e.contains("colour type") && e.contains("8-bit grey"), "{e}");
-        image::GrayImage::new(320, 240).save(&p).unwrap();
-        let e = read_label_png(&p, &mut back).unwrap_err().to_string();
-        assert!(e.contains("320x240"), "{e}");
-        std::fs::write(&p, b"not a png").unwrap();
-        let e = read_label_png(&p, &mut back).unwrap_err().to_string();
-        assert!(e.contains("PNG") && !e.contains('\n'), "{e}");
     }
 
     #[test]

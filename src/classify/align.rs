@@ -1,13 +1,18 @@
 //! Alignment to the RGB view: forward-warps the depth map into the RGB camera, carries the IR-view
 //! labels along and finds alignment shadows (SPEC §1).
 //!
-//! Each source pixel is splatted as the rectangle between the warped midpoints to its connected
-//! neighbours, z-buffered, so a continuous surface tiles the target without cracks. Where two
-//! horizontally adjacent pixels are not connected (a depth edge) and the left one is nearer, they
-//! split apart in the RGB view: the background in the gap is seen by the RGB camera but not by the
-//! IR camera — an alignment shadow. Holes are warped too, at the depth the scanline classifier
-//! assumed for them, so projector shadows carry over. Target pixels nothing lands on lie outside
-//! the IR camera's field of view and stay OTHER.
+//! Each source pixel lands on its nearest target pixel, z-buffered. Where two horizontally
+//! adjacent pixels are not connected (a depth edge) and the left one is nearer, they split apart
+//! in the RGB view: the background in the gap between their footprints is seen by the RGB camera
+//! but not by the IR camera — an alignment shadow. What is left empty inside a surface is a crack
+//! of forward warping (resampling, slanted surfaces) and is filled from its neighbours, so it is
+//! not mistaken for a hole. Holes are warped too, at the depth the scanline classifier assumed for
+//! them, so projector shadows carry over. Target pixels nothing lands on lie outside the IR
+//! camera's field of view and stay OTHER.
+//!
+//! The loops are shaped for speed (one frame must take well under a millisecond): a branch-free
+//! projection pass per row, then one z-test per source pixel; depth edges are rare, so the gap
+//! handling costs nothing on most pixels.
 
 use crate::calib::Calibration;
 use crate::labels::{ALIGNMENT, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
@@ -16,11 +21,16 @@ use crate::labels::{ALIGNMENT, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
 const EMPTY: u16 = u16::MAX;
 /// Z-buffer value of an alignment-shadow pixel: behind every real surface.
 const GAP: u16 = u16::MAX - 1;
+/// Target index of a source pixel that lands outside the RGB image.
+const OUTSIDE: u32 = u32::MAX;
 
 /// Precomputed warp for one calibration plus its scratch buffers.
 pub struct Warp {
-    /// Inverse depth (1/m) per raw value; 0 for "no depth".
-    inv_z: Vec<f32>,
+    /// Inverse depth is linear in raw: `iz = (denominator − raw) / numerator`.
+    iz_scale: f32,
+    iz_offset: f32,
+    /// Whether this CPU runs the AVX2+FMA build of the hot loops (detected once).
+    wide: bool,
     /// `R · K_depth⁻¹ · (0, v, 1)` per source row: the rotated ray of column 0.
     row_ray: Vec<[f32; 3]>,
     /// `R · K_depth⁻¹ · (1, 0, 0)`: the ray's change per column.
@@ -28,18 +38,15 @@ pub struct Warp {
     t: [f32; 3],
     rgb_f: [f32; 2],
     rgb_c: [f32; 2],
-    /// Half a source pixel's size in the target, per unit of `1/nz`.
-    half_px: [f32; 2],
-    /// `f·b`: disparity pixels per unit inverse depth, for the connectivity test.
-    fb: f32,
-    /// Disparity step (px) above which neighbours are different surfaces.
-    jump: f32,
+    /// Half a source pixel's width in the target, per unit of `1/nz`.
+    half_px: f32,
+    /// Raw-value step above which neighbours are different surfaces (1.5 px of disparity).
+    jump_raw: i32,
     zbuf: Vec<u16>,
-    xs: Vec<f32>,
-    ys: Vec<f32>,
-    nz: Vec<f32>,
-    disp: Vec<f32>,
+    target: Vec<u32>,
     z_mm: Vec<u16>,
+    /// 0.0, 1.0, … 639.0: column numbers as floats (usize → f32 does not vectorise).
+    columns: Vec<f32>,
 }
 
 impl Warp {
@@ -52,23 +59,21 @@ impl Warp {
             let v = r * nalgebra::Vector3::new(x, y, z);
             [v.x as f32, v.y as f32, v.z as f32]
         };
-        let inv_z = (0..2048u16).map(|raw| calib.depth_m(raw).map_or(0.0, |z| (1.0 / z) as f32)).collect();
         Warp {
-            inv_z,
+            iz_scale: (-1.0 / calib.raw.numerator) as f32,
+            iz_offset: (calib.raw.denominator / calib.raw.numerator) as f32,
+            wide: wide_simd_available(),
             row_ray: (0..HEIGHT).map(|v| rot(-d.cx / d.fx, (v as f64 - d.cy) / d.fy, 1.0)).collect(),
             col_step: rot(1.0 / d.fx, 0.0, 0.0),
             t: [t.x as f32, t.y as f32, t.z as f32],
             rgb_f: [calib.rgb.fx as f32, calib.rgb.fy as f32],
             rgb_c: [calib.rgb.cx as f32, calib.rgb.cy as f32],
-            half_px: [(0.5 * calib.rgb.fx / d.fx) as f32, (0.5 * calib.rgb.fy / d.fy) as f32],
-            fb: calib.fb() as f32,
-            jump: 1.5,
+            half_px: (0.5 * calib.rgb.fx / d.fx) as f32,
+            jump_raw: (1.5 / calib.px_per_raw()).round() as i32,
             zbuf: vec![EMPTY; PIXELS],
-            xs: vec![0.0; WIDTH],
-            ys: vec![0.0; WIDTH],
-            nz: vec![0.0; WIDTH],
-            disp: vec![0.0; WIDTH],
+            target: vec![OUTSIDE; WIDTH],
             z_mm: vec![0; WIDTH],
+            columns: (0..WIDTH).map(|u| u as f32).collect(),
         }
     }
 
@@ -77,92 +82,233 @@ impl Warp {
     /// in millimetres (0 where the RGB pixel has no measured depth).
     pub fn apply(&mut self, filled: &[u16], ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
         assert!(filled.len() == PIXELS && ir.len() == PIXELS && rgb.len() == PIXELS && mm.len() == PIXELS);
+        #[cfg(target_arch = "x86_64")]
+        if self.wide {
+            // SAFETY: `wide` is only true when the CPU reported AVX2 and FMA at construction.
+            unsafe { self.apply_avx2(filled, ir, rgb, mm) };
+            return;
+        }
+        self.apply_body(filled, ir, rgb, mm);
+    }
+
+    /// The same code compiled for AVX2+FMA: eight pixels per instruction in the projection.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn apply_avx2(&mut self, filled: &[u16], ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
+        self.apply_body(filled, ir, rgb, mm);
+    }
+
+    #[inline(always)]
+    fn apply_body(&mut self, filled: &[u16], ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
         self.zbuf.fill(EMPTY);
         rgb.fill(OTHER);
-        mm.fill(0);
         for v in 0..HEIGHT {
             let row = v * WIDTH..(v + 1) * WIDTH;
             self.project_row(v, &filled[row.clone()]);
-            self.splat_row(&ir[row], rgb, mm);
+            self.splat_row(v, &filled[row.clone()], &ir[row], rgb);
+        }
+        fill_cracks(&mut self.zbuf, rgb);
+        // Registered depth is the z-buffer where a measured pixel won, in one vectorised pass.
+        for ((m, &z), &l) in mm.iter_mut().zip(&self.zbuf).zip(rgb.iter()) {
+            *m = if l == VALID { z } else { 0 };
         }
     }
 
-    /// Projects every pixel of source row `v` into the RGB image (branch-free, so it vectorises).
+    /// Projects every pixel of source row `v` into the RGB image.
+    ///
+    /// With `n = R·ray(u) + t·iz`, the target is `x = fx·nx/nz + cx`. `nz = az(u) + tz·iz` where
+    /// `tz·iz` is tiny (|tz| ≤ a few cm, `iz` ≤ 2.5 /m), so `1/nz` is expanded to second order
+    /// around `1/az(u)` (relative error below 1e-6; exact for tz = 0). The loop is branch-free
+    /// and rounds with [`round_to_u32`], so the compiler vectorises it.
+    #[inline(always)]
     fn project_row(&mut self, v: usize, filled: &[u16]) {
         let [bx, by, bz] = self.row_ray[v];
         let [sx, sy, sz] = self.col_step;
         let [tx, ty, tz] = self.t;
-        for (u, &raw) in filled.iter().enumerate() {
-            let iz = self.inv_z[usize::from(raw.min(NO_DEPTH))];
-            let uf = u as f32;
-            // X_rgb / z = R·ray + t / z, so no division by a possibly-zero inverse depth here.
-            let nx = bx + uf * sx + tx * iz;
-            let ny = by + uf * sy + ty * iz;
-            let nz = bz + uf * sz + tz * iz;
-            let inv = 1.0 / nz;
-            self.xs[u] = self.rgb_f[0] * nx * inv + self.rgb_c[0];
-            self.ys[u] = self.rgb_f[1] * ny * inv + self.rgb_c[1];
-            self.nz[u] = nz;
-            self.disp[u] = self.fb * iz;
-            self.z_mm[u] = if iz > 0.0 { (1000.0 * nz / iz).clamp(1.0, 65000.0) as u16 } else { EMPTY };
+        let (fx, fy) = (self.rgb_f[0], self.rgb_f[1]);
+        let (cx, cy) = (self.rgb_c[0], self.rgb_c[1]);
+        let (w, h) = (WIDTH as f32 - 0.5, HEIGHT as f32 - 0.5);
+        let (iz_scale, iz_offset) = (self.iz_scale, self.iz_offset);
+        let out = self.target.iter_mut().zip(self.z_mm.iter_mut());
+        for ((t_out, z_out), (&raw, &uf)) in out.zip(filled.iter().zip(&self.columns)) {
+            let iz = f32::from(raw) * iz_scale + iz_offset;
+            let az = bz + uf * sz;
+            let inv_az = 1.0 / az;
+            let e = tz * iz * inv_az;
+            let inv = inv_az * (1.0 - e + e * e);
+            let x = fx * (bx + uf * sx + tx * iz) * inv + cx;
+            let y = fy * (by + uf * sy + ty * iz) * inv + cy;
+            let valid = (iz > 0.0) & (raw < NO_DEPTH);
+            // `&`, not `&&`: no short-circuit branches in the vector loop.
+            let inside = valid & (x > -0.5) & (x < w) & (y > -0.5) & (y < h);
+            let index = round_f32(y, h) * WIDTH as f32 + round_f32(x, w);
+            *t_out = if inside { round_to_u32(index, PIXELS as f32) } else { OUTSIDE };
+            // Depth along the RGB camera's axis: z_rgb = nz / iz, in millimetres.
+            let z = round_to_u32(1000.0 * (az + tz * iz) / iz, 65000.0).max(1) as u16;
+            *z_out = if valid { z } else { EMPTY };
         }
     }
 
-    fn splat_row(&mut self, ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
-        let connected = |a: f32, b: f32| (a - b).abs() < self.jump;
-        for u in 0..WIDTH {
-            let z = self.z_mm[u];
-            if z == EMPTY {
+    #[inline(always)]
+    fn splat_row(&mut self, v: usize, filled: &[u16], ir: &[u8], rgb: &mut [u8]) {
+        for ((&t, &z), &label) in self.target.iter().zip(&self.z_mm).zip(ir) {
+            if t == OUTSIDE {
                 continue;
             }
-            let (x, y, inv) = (self.xs[u], self.ys[u], 1.0 / self.nz[u]);
-            let (hx, hy) = (self.half_px[0] * inv, self.half_px[1] * inv);
-            let d = self.disp[u];
-            let left_link = u > 0 && self.z_mm[u - 1] != EMPTY && connected(self.disp[u - 1], d);
-            let right_link = u + 1 < WIDTH && self.z_mm[u + 1] != EMPTY && connected(d, self.disp[u + 1]);
-            let xl = if left_link { 0.5 * (self.xs[u - 1] + x) } else { x - hx };
-            let xr = if right_link { 0.5 * (x + self.xs[u + 1]) } else { x + hx };
-            let label = ir[u];
-            let depth = if label == VALID { z } else { 0 };
-            let (c0, c1) = span(xl, xr, WIDTH);
-            let (r0, r1) = span(y - hy, y + hy, HEIGHT);
-            for r in r0..r1 {
-                let base = r * WIDTH;
-                for t in base + c0..base + c1 {
-                    if z < self.zbuf[t] {
-                        self.zbuf[t] = z;
-                        rgb[t] = label;
-                        mm[t] = depth;
-                    }
-                }
+            let t = t as usize;
+            if z < self.zbuf[t] {
+                self.zbuf[t] = z;
+                rgb[t] = label;
             }
-            // A nearer pixel followed by a farther one splits apart: the RGB camera, right of the
-            // IR camera, sees background there that the IR camera cannot.
-            if u + 1 < WIDTH && !right_link && self.z_mm[u + 1] != EMPTY && d > self.disp[u + 1] {
-                let inv_b = 1.0 / self.nz[u + 1];
-                let (g0, g1) = span(x + hx, self.xs[u + 1] - self.half_px[0] * inv_b, WIDTH);
-                let hyb = self.half_px[1] * inv_b;
-                let (r0, r1) = span(self.ys[u + 1] - hyb, self.ys[u + 1] + hyb, HEIGHT);
-                for r in r0..r1 {
-                    let base = r * WIDTH;
-                    for t in base + g0..base + g1 {
-                        if self.zbuf[t] == EMPTY {
-                            self.zbuf[t] = GAP;
-                            rgb[t] = ALIGNMENT;
-                        }
-                    }
+        }
+        // A nearer pixel followed by a farther one splits apart: the RGB camera, right of the IR
+        // camera, sees background there that the IR camera cannot. Disparity is linear in raw,
+        // so the test runs on raw values; edges are rare, so 16-pixel blocks are tested
+        // branch-free first.
+        let jump = self.jump_raw;
+        for block in (0..WIDTH - 1).step_by(16) {
+            let end = (block + 16).min(WIDTH - 1);
+            let r = &filled[block..=end];
+            if !r.iter().zip(&r[1..]).fold(false, |any, (&a, &b)| any | (i32::from(b) - i32::from(a) >= jump)) {
+                continue;
+            }
+            for u in block..end {
+                if i32::from(filled[u + 1]) - i32::from(filled[u]) >= jump && self.z_mm[u + 1] != EMPTY {
+                    self.mark_gap(v, u, filled, rgb);
                 }
             }
         }
+    }
+
+    /// Marks the target pixels between the footprints of source pixels `u` (near) and `u + 1`
+    /// (far) of row `v` as alignment shadow, on the far pixel's target row, where nothing else
+    /// landed.
+    fn mark_gap(&mut self, v: usize, u: usize, filled: &[u16], rgb: &mut [u8]) {
+        let t = self.target[u + 1];
+        if t == OUTSIDE {
+            return;
+        }
+        let line = t as usize / WIDTH;
+        let lo = self.target_x(v, u, filled[u]) + self.half_px;
+        let hi = self.target_x(v, u + 1, filled[u + 1]) - self.half_px;
+        let (c0, c1) = span(lo, hi, WIDTH);
+        let base = line * WIDTH;
+        for i in base + c0..base + c1 {
+            if self.zbuf[i] == EMPTY {
+                self.zbuf[i] = GAP;
+                rgb[i] = ALIGNMENT;
+            }
+        }
+    }
+
+    /// Target column (unrounded) of source pixel (`u`, `v`) with raw value `raw`; the scalar twin
+    /// of the projection in [`Warp::project_row`], for the rare pixels at depth edges.
+    fn target_x(&self, v: usize, u: usize, raw: u16) -> f32 {
+        let iz = f32::from(raw) * self.iz_scale + self.iz_offset;
+        let uf = u as f32;
+        let [bx, _, bz] = self.row_ray[v];
+        let [sx, _, sz] = self.col_step;
+        let nz = bz + uf * sz + self.t[2] * iz;
+        self.rgb_f[0] * (bx + uf * sx + self.t[0] * iz) / nz + self.rgb_c[0]
+    }
+}
+
+/// Fills forward-warping cracks: an empty pixel between two filled ones in its row (up to two
+/// pixels wide) or in its column takes the farther neighbour's value, so a crack beside an
+/// alignment gap joins the gap and a crack inside a surface joins the surface. Empty runs at the
+/// ends of rows (outside the IR field of view) are left alone.
+fn fill_cracks(zbuf: &mut [u16], rgb: &mut [u8]) {
+    let copy = |zbuf: &mut [u16], rgb: &mut [u8], to: usize, from: usize| {
+        zbuf[to] = zbuf[from];
+        rgb[to] = rgb[from];
+    };
+    for v in 0..HEIGHT {
+        let row = v * WIDTH;
+        let z = &zbuf[row..row + WIDTH];
+        let Some(first) = z.iter().position(|&d| d != EMPTY) else {
+            // A whole empty row between two covered ones (RGB focal length above the IR one).
+            if v > 0 && v + 1 < HEIGHT {
+                for i in row..row + WIDTH {
+                    if zbuf[i - WIDTH] != EMPTY && zbuf[i + WIDTH] != EMPTY {
+                        let from = if zbuf[i - WIDTH] >= zbuf[i + WIDTH] { i - WIDTH } else { i + WIDTH };
+                        copy(zbuf, rgb, i, from);
+                    }
+                }
+            }
+            continue;
+        };
+        let last = z.iter().rposition(|&d| d != EMPTY).unwrap();
+        // Most rows have no crack: a branch-free count lets them skip the scan.
+        if z[first..last].iter().fold(0u32, |n, &d| n + u32::from(d == EMPTY)) == 0 {
+            continue;
+        }
+        let mut u = first + 1;
+        while u < last {
+            if zbuf[row + u] != EMPTY {
+                u += 1;
+                continue;
+            }
+            let end = (u..last).find(|&k| zbuf[row + k] != EMPTY).unwrap_or(last);
+            let (a, b) = (row + u - 1, row + end);
+            if end - u <= 2 {
+                let from = if zbuf[a] >= zbuf[b] { a } else { b };
+                for k in row + u..row + end {
+                    copy(zbuf, rgb, k, from);
+                }
+            } else if v > 0 && v + 1 < HEIGHT {
+                for i in row + u..row + end {
+                    if zbuf[i - WIDTH] != EMPTY && zbuf[i + WIDTH] != EMPTY {
+                        let from = if zbuf[i - WIDTH] >= zbuf[i + WIDTH] { i - WIDTH } else { i + WIDTH };
+                        copy(zbuf, rgb, i, from);
+                    }
+                }
+            }
+            u = end;
+        }
+    }
+}
+
+/// Rounds `x` to the nearest integer in `0..=max` without a float-to-int cast (which is not
+/// vectorised cheaply): adding 2²³ pushes the integer part into the mantissa. NaN maps to 0.
+#[inline(always)]
+fn round_to_u32(x: f32, max: f32) -> u32 {
+    const MAGIC: f32 = 8_388_608.0; // 2^23
+    (x.max(0.0).min(max) + MAGIC).to_bits() & 0x7f_ffff
+}
+
+/// [`round_to_u32`] kept as a float (exact for integers below 2²³).
+#[inline(always)]
+fn round_f32(x: f32, max: f32) -> f32 {
+    const MAGIC: f32 = 8_388_608.0; // 2^23
+    (x.max(0.0).min(max) + MAGIC) - MAGIC
+}
+
+/// True when the AVX2+FMA build of the hot loops can run on this CPU.
+pub(crate) fn wide_simd_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
     }
 }
 
 /// Target pixels whose centres lie in `[lo, hi)`, clipped to `0..len`.
 #[inline]
 fn span(lo: f32, hi: f32, len: usize) -> (usize, usize) {
-    let a = lo.ceil().clamp(0.0, len as f32) as usize;
-    let b = hi.ceil().clamp(0.0, len as f32) as usize;
+    let a = ceil_clamped(lo, len);
+    let b = ceil_clamped(hi, len);
     (a, b.max(a))
+}
+
+/// `ceil(x)` clamped to `0..=len`; `f32::ceil` is a libm call on baseline x86-64 (no SSE4.1).
+#[inline]
+fn ceil_clamped(x: f32, len: usize) -> usize {
+    let x = x.clamp(0.0, len as f32);
+    let i = x as usize;
+    i + usize::from((i as f32) < x)
 }
 
 #[cfg(test)]

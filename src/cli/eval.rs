@@ -3,11 +3,12 @@
 
 use std::path::{Path, PathBuf};
 
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 
 use crate::classify::{Classified, Classifier};
 use crate::error::{Error, Result};
-use crate::eval::{read_category, read_label_png, write_label_png, Report, Tally};
+use crate::eval::{read_category, Report, Tally};
+use crate::sink::labels::{read_label_png, write_label_png};
 use crate::labels::PIXELS;
 use crate::recording::Recording;
 
@@ -41,11 +42,7 @@ struct Job {
 pub fn run(a: Args) -> Result<()> {
     let jobs = plan(&a)?;
     let total: u64 = jobs.iter().map(|j| j.rec.len() as u64).sum();
-    let bar = ProgressBar::new(total).with_style(
-        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} frames {eta}")
-            .expect("static template")
-            .progress_chars("=> "),
-    );
+    let bar = super::progress_bar(total, "frames");
     let mut report = Report::default();
     for job in &jobs {
         bar.set_prefix(job.name.clone());
@@ -137,5 +134,5 @@ fn score(job: &Job, bar: &ProgressBar) -> Result<Tally> {
 
 /// `<dir>/<i:06>.<view>.png`, the SPEC §4 name.
 fn gt_path(dir: &Path, i: usize, view: &str) -> PathBuf {
-    dir.join(format!("{i:06}.{view}.png"))
+    crate::sink::labels::label_path(dir, i, view)
 }

@@ -6,7 +6,7 @@ use image::ImageEncoder;
 
 use crate::classify::{Classified, Classifier};
 use crate::error::{Error, Result};
-use crate::eval::write_atomically;
+use crate::sink::labels::write_atomically;
 use crate::labels::PIXELS;
 use crate::recording::Recording;
 use crate::render::render_panels;

@@ -1,0 +1,41 @@
+//! Where classified frames go. [`labels`] holds the SPEC §4 label files and the
+//! [`LabelExport`] sink that writes them.
+
+pub mod labels;
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+use crate::pipeline::Frame;
+
+/// Something that consumes classified frames in order.
+pub trait Sink: Send {
+    /// Writes one frame. An error stops the pipeline.
+    fn write(&mut self, frame: &Frame) -> Result<()>;
+
+    /// Called once after the last frame (flush, close files).
+    fn finish(&mut self) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// Writes SPEC §4 files: `<dir>/<i:06>.depth.png` and `<dir>/<i:06>.rgb.png` per frame.
+pub struct LabelExport {
+    dir: PathBuf,
+}
+
+impl LabelExport {
+    /// Creates `dir` (and parents) if needed.
+    pub fn create(dir: &Path) -> Result<Self> {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating folder", e))?;
+        Ok(LabelExport { dir: dir.to_path_buf() })
+    }
+}
+
+impl Sink for LabelExport {
+    fn write(&mut self, frame: &Frame) -> Result<()> {
+        let i = frame.seq as usize;
+        labels::write_label_png(&labels::label_path(&self.dir, i, "depth"), &frame.labels.ir_labels)?;
+        labels::write_label_png(&labels::label_path(&self.dir, i, "rgb"), &frame.labels.rgb_labels)
+    }
+}
