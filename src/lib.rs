@@ -4,17 +4,21 @@
 //!
 //! Layout: [`recording`] reads fakenect folders, [`classify`] holds the pure per-frame algorithm,
 //! [`pipeline`] runs frames through it on threads with recycled buffers, [`sink`] writes results,
-//! [`synth`] is the simulator with exact ground truth, [`eval`] scores labels against it.
+//! [`synth`] is the simulator with exact ground truth, [`eval`] scores labels against it,
+//! [`render`] draws a frame for people, [`cli`] is the `umbra` command.
 
 pub mod calib;
+pub mod capture;
+pub mod classify;
+pub mod cli;
 pub mod error;
+pub mod eval;
 pub mod labels;
+pub mod pipeline;
 pub mod recording;
+pub mod render;
+pub mod sink;
 pub mod synth;
 
 pub use calib::Calibration;
 pub use error::{Error, Result};
-pub mod classify;
-pub mod cli;
-pub mod eval;
-pub mod render;
