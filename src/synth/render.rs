@@ -221,10 +221,10 @@ fn shade(out: &mut [u8], p: &V3, normal: &V3, d: &V3, lamp: &V3, m: &Material, o
     let lambert = n.dot(&(lamp - p).normalize()).max(0.0);
     let tex = 1.0 + 0.12 * (texture(p, obj, 0.02) - 0.5) + 0.08 * (texture(p, obj, 0.1) - 0.5);
     let light = (0.25 + 0.75 * lambert) * tex;
-    for c in 0..3 {
-        let lin = (m.colour[c] * light).clamp(0.0, 1.0);
+    for (o, colour) in out.iter_mut().zip(m.colour) {
+        let lin = (colour * light).clamp(0.0, 1.0);
         let n = if noise > 0.0 { sensor::gauss(rng) * noise } else { 0.0 };
-        out[c] = (255.0 * lin.powf(1.0 / 2.2) + n).round().clamp(0.0, 255.0) as u8;
+        *o = (255.0 * lin.powf(1.0 / 2.2) + n).round().clamp(0.0, 255.0) as u8;
     }
 }
 

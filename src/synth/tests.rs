@@ -190,3 +190,19 @@ fn random_scenes_have_consistent_labels_and_are_deterministic() {
     }
     assert!(shadows > 1000, "{shadows}");
 }
+
+/// Timing, not a check: `cargo test --release --lib synth::tests::render_time -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn render_time() {
+    let c = Calibration::nyu_default();
+    for (cat, seed) in [(Category::Simple, 1), (Category::Complex, 2), (Category::Complex, 5)] {
+        let scene = random_scene(cat, seed);
+        let t = std::time::Instant::now();
+        let n = 5;
+        for k in 0..n {
+            std::hint::black_box(render_frame(&scene.at_frame(k), &c, &sensor_for(cat), k as u64));
+        }
+        eprintln!("{} ({} objects): {:.0} ms/frame", cat.as_str(), scene.objects.len(), t.elapsed().as_secs_f64() * 1e3 / n as f64);
+    }
+}
