@@ -25,7 +25,7 @@ pub struct Params {
 
 impl Default for Params {
     fn default() -> Self {
-        Params { min_step_px: 1.5, attached_over_px: 8.0, detached_tol_px: 4.0, max_island_px: 2 }
+        Params { min_step_px: 1.0, attached_over_px: 8.0, detached_tol_px: 4.0, max_island_px: 2 }
     }
 }
 
