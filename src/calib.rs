@@ -208,7 +208,7 @@ impl Calibration {
 }
 
 /// Turns a TOML parse error into `line L, column C` plus its message.
-fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> Error {
+pub(crate) fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> Error {
     let place = match e.span() {
         Some(span) => {
             let before = &text[..span.start.min(text.len())];

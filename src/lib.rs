@@ -11,6 +11,7 @@ pub mod calib;
 pub mod capture;
 pub mod classify;
 pub mod cli;
+pub mod config;
 pub mod error;
 pub mod eval;
 pub mod labels;

@@ -28,6 +28,9 @@ pub struct Args {
     /// RECORDING is a folder of recordings).
     #[arg(long, value_name = "DIR")]
     pub export_labels: Option<PathBuf>,
+    /// Settings file (see config/umbra.toml); built-in defaults without it.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
 }
 
 /// One recording to score, with where its ground truth and exported labels go.
@@ -40,13 +43,14 @@ struct Job {
 
 /// Runs `umbra eval`.
 pub fn run(a: Args) -> Result<()> {
+    let params = crate::config::Config::load_or_default(a.config.as_deref())?.params();
     let jobs = plan(&a)?;
     let total: u64 = jobs.iter().map(|j| j.rec.len() as u64).sum();
     let bar = super::progress_bar(total, "frames");
     let mut report = Report::default();
     for job in &jobs {
         bar.set_prefix(job.name.clone());
-        let tally = score(job, &bar)?;
+        let tally = score(job, params, &bar)?;
         let category = read_category(&job.gt.join("meta.toml"))?;
         report.add_recording(job.name.clone(), category, tally);
     }
@@ -107,11 +111,11 @@ fn plan(a: &Args) -> Result<Vec<Job>> {
 }
 
 /// Classifies every frame of one recording and counts it against ground truth.
-fn score(job: &Job, bar: &ProgressBar) -> Result<Tally> {
+fn score(job: &Job, params: crate::classify::Params, bar: &ProgressBar) -> Result<Tally> {
     if let Some(dir) = &job.export {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating", e))?;
     }
-    let mut classifier = Classifier::new(job.rec.calibration());
+    let mut classifier = Classifier::with_params(job.rec.calibration(), params);
     let mut out = Classified::default();
     let mut raw = vec![0u16; PIXELS];
     let (mut gt_ir, mut gt_rgb) = (vec![0u8; PIXELS], vec![0u8; PIXELS]);

@@ -22,10 +22,14 @@ pub struct Args {
     /// The PNG to write.
     #[arg(long, value_name = "FILE.png")]
     pub out: PathBuf,
+    /// Settings file (see config/umbra.toml); built-in defaults without it.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
 }
 
 /// Runs `umbra render`.
 pub fn run(a: Args) -> Result<()> {
+    let params = crate::config::Config::load_or_default(a.config.as_deref())?.params();
     let rec = Recording::open(&a.recording)?;
     if a.frame >= rec.len() {
         let n = rec.len();
@@ -42,7 +46,7 @@ pub fn run(a: Args) -> Result<()> {
     let mut rgb = vec![0u8; PIXELS * 3];
     let has_rgb = rec.read_rgb(a.frame, &mut rgb)?;
     let mut out = Classified::default();
-    Classifier::new(rec.calibration()).classify(&raw, &mut out);
+    Classifier::with_params(rec.calibration(), params).classify(&raw, &mut out);
     let img = render_panels(has_rgb.then_some(&rgb[..]), &raw, rec.calibration(), &out);
 
     let mut png = Vec::new();

@@ -3,6 +3,8 @@
 use std::path::PathBuf;
 
 use crate::capture::replay::ReplaySource;
+use crate::classify::Classifier;
+use crate::config::Config;
 use crate::labels::{CLASSES, NAMES};
 use crate::pipeline::{self, Options, Stats};
 use crate::recording::Recording;
@@ -16,12 +18,16 @@ pub struct Args {
     /// Write SPEC §4 label PNGs (<i:06>.depth.png, <i:06>.rgb.png) into this folder.
     #[arg(long, value_name = "DIR")]
     pub export_labels: Option<PathBuf>,
+    /// Settings file (see config/umbra.toml); built-in defaults without it.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
 }
 
 /// Runs `umbra replay`.
 pub fn run(a: Args) -> crate::Result<()> {
+    let config = Config::load_or_default(a.config.as_deref())?;
     let rec = Recording::open(&a.recording)?;
-    let calib = *rec.calibration();
+    let classifier = Classifier::with_params(rec.calibration(), config.params());
     tracing::info!(frames = rec.len(), calibration = ?rec.calibration_source(), "replaying {}", a.recording.display());
     let mut sinks: Vec<Box<dyn Sink>> = Vec::new();
     if let Some(dir) = &a.export_labels {
@@ -29,7 +35,7 @@ pub fn run(a: Args) -> crate::Result<()> {
     }
     let bar = super::progress_bar(rec.len() as u64, "frames");
     let source = Box::new(ReplaySource::new(rec, false));
-    let stats = pipeline::run(source, &calib, &mut sinks, Options::default(), |_| bar.inc(1));
+    let stats = pipeline::run(source, classifier, &mut sinks, Options::default(), |_| bar.inc(1));
     bar.finish_and_clear();
     let stats = stats?;
     print!("{}", summary(&stats));

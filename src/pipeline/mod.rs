@@ -9,7 +9,6 @@ use std::time::{Duration, Instant};
 use crossbeam_channel::{bounded, Receiver, Sender};
 use tracing::{debug, info_span};
 
-use crate::calib::Calibration;
 use crate::capture::Source;
 use crate::classify::{Classified, Classifier};
 use crate::error::{Error, Result};
@@ -93,7 +92,7 @@ enum Msg {
 /// returns it; frames written before it stay written.
 pub fn run(
     mut source: Box<dyn Source>,
-    calib: &Calibration,
+    mut classifier: Classifier,
     sinks: &mut [Box<dyn Sink>],
     opts: Options,
     mut on_frame: impl FnMut(&Frame),
@@ -105,7 +104,6 @@ pub fn run(
     }
     let (read_tx, read_rx) = bounded::<Msg>(pool);
     let (done_tx, done_rx) = bounded::<Msg>(pool);
-    let mut classifier = Classifier::new(calib);
     let start = Instant::now();
     let mut stats = Stats::default();
 
