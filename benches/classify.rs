@@ -48,24 +48,41 @@ fn busy_frame(c: &Calibration) -> Vec<u16> {
     f
 }
 
+/// A recording's first frame and calibration, if the folder exists.
+fn recorded(dir: &str) -> Option<(Vec<u16>, Calibration)> {
+    let rec = umbra::recording::Recording::open(std::path::Path::new(dir)).ok()?;
+    let mut raw = vec![0u16; PIXELS];
+    rec.read_depth(0, &mut raw).ok()?;
+    Some((raw, *rec.calibration()))
+}
+
 fn bench(c: &mut Criterion) {
     let calib = Calibration::nyu_default();
-    let frame = busy_frame(&calib);
-    let mut classifier = Classifier::new(&calib);
-    let mut out = Classified::default();
-    let mut copy = vec![0u16; PIXELS];
+    let mut frames = vec![("synthetic_busy", busy_frame(&calib), calib)];
+    let root = env!("CARGO_MANIFEST_DIR");
+    // The bundled simulated room, and the real NYU frame when the shared data is beside the repo.
+    for (name, dir) in [("complex_room", format!("{root}/recordings/complex-room")), ("nyu_basement_real", format!("{root}/../shared/data/nyu-basement"))] {
+        if let Some((raw, cal)) = recorded(&dir) {
+            frames.push((name, raw, cal));
+        }
+    }
     let mut g = c.benchmark_group("frame_640x480");
-    g.bench_function("plain_copy", |b| b.iter(|| copy.copy_from_slice(black_box(&frame))));
-    g.bench_function("classify_ir_align_rgb", |b| b.iter(|| classifier.classify(black_box(&frame), &mut out)));
-    let scan = umbra::classify::scanline::ScanParams::new(&calib, &Default::default());
-    let mut filled = vec![0u16; PIXELS];
-    g.bench_function("stage_scanline_ir", |b| {
-        b.iter(|| umbra::classify::scanline::classify_frame(&scan, black_box(&frame), &mut out.ir_labels, &mut filled))
-    });
-    let mut warp = umbra::classify::align::Warp::new(&calib);
-    g.bench_function("stage_warp_rgb", |b| {
-        b.iter(|| warp.apply(black_box(&filled), &out.ir_labels, &mut out.rgb_labels, &mut out.registered_mm))
-    });
+    let mut copy = vec![0u16; PIXELS];
+    g.bench_function("plain_copy", |b| b.iter(|| copy.copy_from_slice(black_box(&frames[0].1))));
+    for (name, frame, cal) in &frames {
+        let mut classifier = Classifier::new(cal);
+        let mut out = Classified::default();
+        g.bench_function(format!("classify_ir_align_rgb/{name}"), |b| b.iter(|| classifier.classify(black_box(frame), &mut out)));
+        let scan = umbra::classify::scanline::ScanParams::new(cal, &Default::default());
+        let mut filled = vec![0u16; PIXELS];
+        g.bench_function(format!("stage_scanline_ir/{name}"), |b| {
+            b.iter(|| umbra::classify::scanline::classify_frame(&scan, black_box(frame), &mut out.ir_labels, &mut filled))
+        });
+        let mut warp = umbra::classify::align::Warp::new(cal);
+        g.bench_function(format!("stage_warp_rgb/{name}"), |b| {
+            b.iter(|| warp.apply(black_box(&filled), &out.ir_labels, &mut out.rgb_labels, &mut out.registered_mm))
+        });
+    }
     g.finish();
 }
 

@@ -17,12 +17,14 @@
 use crate::calib::Calibration;
 use crate::labels::{ALIGNMENT, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
 
-/// Z-buffer value of an empty target pixel.
-const EMPTY: u16 = u16::MAX;
+/// The z-buffer holds `depth_mm << 8 | label`: the nearer surface wins one integer compare, and
+/// the label travels with its depth (one load and one store per splatted pixel).
+/// Empty: above every key, and its label byte is OTHER (nothing of the IR view lands there).
+const EMPTY: u32 = 0xffff_ff00 | OTHER as u32;
 /// Z-buffer value of an alignment-shadow pixel: behind every real surface.
-const GAP: u16 = u16::MAX - 1;
-/// Target index of a source pixel that lands outside the RGB image.
-const OUTSIDE: u32 = u32::MAX;
+const GAP: u32 = (0xfffe << 8) | ALIGNMENT as u32;
+/// Target index of a source pixel that lands outside the RGB image: a spare z-buffer slot.
+const OUTSIDE: u32 = PIXELS as u32;
 
 /// Precomputed warp for one calibration plus its scratch buffers.
 pub struct Warp {
@@ -42,9 +44,10 @@ pub struct Warp {
     half_px: f32,
     /// Raw-value step above which neighbours are different surfaces (1.5 px of disparity).
     jump_raw: i32,
-    zbuf: Vec<u16>,
+    zbuf: Vec<u32>,
     target: Vec<u32>,
-    z_mm: Vec<u16>,
+    /// Packed z-buffer key of each pixel of the current source row; `EMPTY` for no depth.
+    keys: Vec<u32>,
     /// 0.0, 1.0, … 639.0: column numbers as floats (usize → f32 does not vectorise).
     columns: Vec<f32>,
 }
@@ -70,9 +73,9 @@ impl Warp {
             rgb_c: [calib.rgb.cx as f32, calib.rgb.cy as f32],
             half_px: (0.5 * calib.rgb.fx / d.fx) as f32,
             jump_raw: (1.5 / calib.px_per_raw()).round() as i32,
-            zbuf: vec![EMPTY; PIXELS],
+            zbuf: vec![EMPTY; PIXELS + 1],
             target: vec![OUTSIDE; WIDTH],
-            z_mm: vec![0; WIDTH],
+            keys: vec![EMPTY; WIDTH],
             columns: (0..WIDTH).map(|u| u as f32).collect(),
         }
     }
@@ -101,27 +104,27 @@ impl Warp {
     #[inline(always)]
     fn apply_body(&mut self, filled: &[u16], ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
         self.zbuf.fill(EMPTY);
-        rgb.fill(OTHER);
         for v in 0..HEIGHT {
             let row = v * WIDTH..(v + 1) * WIDTH;
-            self.project_row(v, &filled[row.clone()]);
-            self.splat_row(v, &filled[row.clone()], &ir[row], rgb);
+            self.project_row(v, &filled[row.clone()], &ir[row.clone()]);
+            self.splat_row(v, &filled[row]);
         }
-        fill_cracks(&mut self.zbuf, rgb);
-        // Registered depth is the z-buffer where a measured pixel won, in one vectorised pass.
-        for ((m, &z), &l) in mm.iter_mut().zip(&self.zbuf).zip(rgb.iter()) {
-            *m = if l == VALID { z } else { 0 };
+        fill_cracks(&mut self.zbuf[..PIXELS]);
+        // Unpack labels and registered depth (where a measured pixel won) in one vectorised pass;
+        // nothing landed on EMPTY pixels: outside the IR field of view, so OTHER.
+        for ((m, l), &k) in mm.iter_mut().zip(rgb.iter_mut()).zip(&self.zbuf[..PIXELS]) {
+            *l = k as u8;
+            let measured = u32::from(k & 0xff == u32::from(VALID)).wrapping_neg();
+            *m = ((k >> 8) & measured) as u16;
         }
     }
 
-    /// Projects every pixel of source row `v` into the RGB image.
-    ///
-    /// With `n = R·ray(u) + t·iz`, the target is `x = fx·nx/nz + cx`. `nz = az(u) + tz·iz` where
-    /// `tz·iz` is tiny (|tz| ≤ a few cm, `iz` ≤ 2.5 /m), so `1/nz` is expanded to second order
-    /// around `1/az(u)` (relative error below 1e-6; exact for tz = 0). The loop is branch-free
-    /// and rounds with [`round_to_u32`], so the compiler vectorises it.
+    /// Projects every pixel of source row `v` into the RGB image: `n = R·ray(u) + t·iz`, target
+    /// `x = fx·nx/nz + cx`, depth along the RGB axis `nz/iz`. One division gives both quotients
+    /// (`r = 1/(nz·iz)`, so `1/nz = r·iz` and `1/iz = r·nz`), and the loop is branch-free, rounding
+    /// with [`round_to_u32`], so the compiler vectorises it.
     #[inline(always)]
-    fn project_row(&mut self, v: usize, filled: &[u16]) {
+    fn project_row(&mut self, v: usize, filled: &[u16], ir: &[u8]) {
         let [bx, by, bz] = self.row_ray[v];
         let [sx, sy, sz] = self.col_step;
         let [tx, ty, tz] = self.t;
@@ -129,37 +132,30 @@ impl Warp {
         let (cx, cy) = (self.rgb_c[0], self.rgb_c[1]);
         let (w, h) = (WIDTH as f32 - 0.5, HEIGHT as f32 - 0.5);
         let (iz_scale, iz_offset) = (self.iz_scale, self.iz_offset);
-        let out = self.target.iter_mut().zip(self.z_mm.iter_mut());
-        for ((t_out, z_out), (&raw, &uf)) in out.zip(filled.iter().zip(&self.columns)) {
+        let out = self.target.iter_mut().zip(self.keys.iter_mut());
+        for ((t_out, k_out), ((&raw, &uf), &label)) in out.zip(filled.iter().zip(&self.columns).zip(ir)) {
             let iz = f32::from(raw) * iz_scale + iz_offset;
-            let az = bz + uf * sz;
-            let inv_az = 1.0 / az;
-            let e = tz * iz * inv_az;
-            let inv = inv_az * (1.0 - e + e * e);
-            let x = fx * (bx + uf * sx + tx * iz) * inv + cx;
-            let y = fy * (by + uf * sy + ty * iz) * inv + cy;
-            let valid = (iz > 0.0) & (raw < NO_DEPTH);
+            let nz = bz + uf * sz + tz * iz;
+            let r = 1.0 / (nz * iz);
+            let inv_nz = r * iz;
+            let x = fx * (bx + uf * sx + tx * iz) * inv_nz + cx;
+            let y = fy * (by + uf * sy + ty * iz) * inv_nz + cy;
+            let valid = (iz > 0.0) & (raw < NO_DEPTH) & (nz > 0.0);
             // `&`, not `&&`: no short-circuit branches in the vector loop.
             let inside = valid & (x > -0.5) & (x < w) & (y > -0.5) & (y < h);
             let index = round_f32(y, h) * WIDTH as f32 + round_f32(x, w);
             *t_out = if inside { round_to_u32(index, PIXELS as f32) } else { OUTSIDE };
-            // Depth along the RGB camera's axis: z_rgb = nz / iz, in millimetres.
-            let z = round_to_u32(1000.0 * (az + tz * iz) / iz, 65000.0).max(1) as u16;
-            *z_out = if valid { z } else { EMPTY };
+            let z = round_to_u32(1000.0 * nz * nz * r, 65000.0).max(1);
+            *k_out = if valid { (z << 8) | u32::from(label) } else { EMPTY };
         }
     }
 
     #[inline(always)]
-    fn splat_row(&mut self, v: usize, filled: &[u16], ir: &[u8], rgb: &mut [u8]) {
-        for ((&t, &z), &label) in self.target.iter().zip(&self.z_mm).zip(ir) {
-            if t == OUTSIDE {
-                continue;
-            }
-            let t = t as usize;
-            if z < self.zbuf[t] {
-                self.zbuf[t] = z;
-                rgb[t] = label;
-            }
+    fn splat_row(&mut self, v: usize, filled: &[u16]) {
+        // Off-image pixels land in the spare slot past the image: no branch per pixel.
+        for (&t, &k) in self.target.iter().zip(&self.keys) {
+            let slot = &mut self.zbuf[t as usize];
+            *slot = (*slot).min(k);
         }
         // A nearer pixel followed by a farther one splits apart: the RGB camera, right of the IR
         // camera, sees background there that the IR camera cannot. Disparity is linear in raw,
@@ -173,8 +169,8 @@ impl Warp {
                 continue;
             }
             for u in block..end {
-                if i32::from(filled[u + 1]) - i32::from(filled[u]) >= jump && self.z_mm[u + 1] != EMPTY {
-                    self.mark_gap(v, u, filled, rgb);
+                if i32::from(filled[u + 1]) - i32::from(filled[u]) >= jump && self.keys[u + 1] != EMPTY {
+                    self.mark_gap(v, u, filled);
                 }
             }
         }
@@ -183,7 +179,7 @@ impl Warp {
     /// Marks the target pixels between the footprints of source pixels `u` (near) and `u + 1`
     /// (far) of row `v` as alignment shadow, on the far pixel's target row, where nothing else
     /// landed.
-    fn mark_gap(&mut self, v: usize, u: usize, filled: &[u16], rgb: &mut [u8]) {
+    fn mark_gap(&mut self, v: usize, u: usize, filled: &[u16]) {
         let t = self.target[u + 1];
         if t == OUTSIDE {
             return;
@@ -196,7 +192,6 @@ impl Warp {
         for i in base + c0..base + c1 {
             if self.zbuf[i] == EMPTY {
                 self.zbuf[i] = GAP;
-                rgb[i] = ALIGNMENT;
             }
         }
     }
@@ -217,11 +212,8 @@ impl Warp {
 /// pixels wide) or in its column takes the farther neighbour's value, so a crack beside an
 /// alignment gap joins the gap and a crack inside a surface joins the surface. Empty runs at the
 /// ends of rows (outside the IR field of view) are left alone.
-fn fill_cracks(zbuf: &mut [u16], rgb: &mut [u8]) {
-    let copy = |zbuf: &mut [u16], rgb: &mut [u8], to: usize, from: usize| {
-        zbuf[to] = zbuf[from];
-        rgb[to] = rgb[from];
-    };
+fn fill_cracks(zbuf: &mut [u32]) {
+    let copy = |zbuf: &mut [u32], to: usize, from: usize| zbuf[to] = zbuf[from];
     for v in 0..HEIGHT {
         let row = v * WIDTH;
         let z = &zbuf[row..row + WIDTH];
@@ -231,7 +223,7 @@ fn fill_cracks(zbuf: &mut [u16], rgb: &mut [u8]) {
                 for i in row..row + WIDTH {
                     if zbuf[i - WIDTH] != EMPTY && zbuf[i + WIDTH] != EMPTY {
                         let from = if zbuf[i - WIDTH] >= zbuf[i + WIDTH] { i - WIDTH } else { i + WIDTH };
-                        copy(zbuf, rgb, i, from);
+                        copy(zbuf, i, from);
                     }
                 }
             }
@@ -253,13 +245,13 @@ fn fill_cracks(zbuf: &mut [u16], rgb: &mut [u8]) {
             if end - u <= 2 {
                 let from = if zbuf[a] >= zbuf[b] { a } else { b };
                 for k in row + u..row + end {
-                    copy(zbuf, rgb, k, from);
+                    copy(zbuf, k, from);
                 }
             } else if v > 0 && v + 1 < HEIGHT {
                 for i in row + u..row + end {
                     if zbuf[i - WIDTH] != EMPTY && zbuf[i + WIDTH] != EMPTY {
                         let from = if zbuf[i - WIDTH] >= zbuf[i + WIDTH] { i - WIDTH } else { i + WIDTH };
-                        copy(zbuf, rgb, i, from);
+                        copy(zbuf, i, from);
                     }
                 }
             }

@@ -281,10 +281,25 @@ fn detached(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> Option
     let d_bg = d_sa.min(d_sb);
     let reach = (p.max_disp - d_bg).max(0.0) as usize + 2;
     let stop = (h.end + reach).min(n);
-    let is_fg = |r: u16| r != NO_DEPTH && p.disp(r) > d_bg + p.min_step;
+    // disp(r) > d_bg + min_step  ⇔  r < fg_below (disparity falls as raw grows); holes (2047)
+    // are never below it.
+    let fg_below = p.den - (d_bg + p.min_step) / p.k;
+    let is_fg = |r: u16| f32::from(r) < fg_below;
     let mut u = h.end;
     let mut gap_holes = 0;
+    let mut next_skip = u;
     while u < stop {
+        // Most of the search crosses plain background: skip 16 pixels at a time when none of
+        // them is foreground or a hole (branch-free test, vectorised), trying once per block.
+        if u >= next_skip && u + 16 <= stop {
+            let clean = raw[u..u + 16].iter().fold(true, |ok, &r| ok & !is_fg(r) & (r != NO_DEPTH));
+            if clean {
+                gap_holes = 0;
+                u += 16;
+                continue;
+            }
+            next_skip = u + 16;
+        }
         let r = raw[u];
         if r == NO_DEPTH {
             // Small dropouts in the lit gap are fine; a large hole ends the search.
