@@ -143,9 +143,10 @@ impl Warp {
             let valid = (iz > 0.0) & (raw < NO_DEPTH) & (nz > 0.0);
             // `&`, not `&&`: no short-circuit branches in the vector loop.
             let inside = valid & (x > -0.5) & (x < w) & (y > -0.5) & (y < h);
-            let index = round_f32(y, h) * WIDTH as f32 + round_f32(x, w);
-            *t_out = if inside { round_to_u32(index, PIXELS as f32) } else { OUTSIDE };
-            let z = round_to_u32(1000.0 * nz * nz * r, 65000.0).max(1);
+            // Lanes that are not `inside` may hold garbage here; the select below drops them.
+            let index = round_f32(y) * WIDTH as f32 + round_f32(x);
+            *t_out = if inside { round_bits(index) } else { OUTSIDE };
+            let z = round_bits(clamp_fast(1000.0 * nz * nz * r, 1.0, 65000.0));
             *k_out = if valid { (z << 8) | u32::from(label) } else { EMPTY };
         }
     }
@@ -260,19 +261,31 @@ fn fill_cracks(zbuf: &mut [u32]) {
     }
 }
 
-/// Rounds `x` to the nearest integer in `0..=max` without a float-to-int cast (which is not
-/// vectorised cheaply): adding 2²³ pushes the integer part into the mantissa. NaN maps to 0.
+const MAGIC: f32 = 8_388_608.0; // 2^23
+
+/// Nearest integer of `x ∈ [0, 2²³)` as bits, without a float-to-int cast (costly to vectorise):
+/// adding 2²³ pushes the integer part into the mantissa.
 #[inline(always)]
-fn round_to_u32(x: f32, max: f32) -> u32 {
-    const MAGIC: f32 = 8_388_608.0; // 2^23
-    (x.max(0.0).min(max) + MAGIC).to_bits() & 0x7f_ffff
+fn round_bits(x: f32) -> u32 {
+    (x + MAGIC).to_bits() & 0x7f_ffff
 }
 
-/// [`round_to_u32`] kept as a float (exact for integers below 2²³).
+/// Nearest integer of `x` as a float, for `|x| < 2²²`.
 #[inline(always)]
-fn round_f32(x: f32, max: f32) -> f32 {
-    const MAGIC: f32 = 8_388_608.0; // 2^23
-    (x.max(0.0).min(max) + MAGIC) - MAGIC
+fn round_f32(x: f32) -> f32 {
+    (x + MAGIC) - MAGIC
+}
+
+/// `x` clamped to `[lo, hi]` with plain compares (one vector min/max each; NaN gives `lo`),
+/// where `f32::clamp` pays for IEEE NaN rules.
+#[inline(always)]
+fn clamp_fast(x: f32, lo: f32, hi: f32) -> f32 {
+    let x = if x > lo { x } else { lo };
+    if x < hi {
+        x
+    } else {
+        hi
+    }
 }
 
 /// True when the AVX2+FMA build of the hot loops can run on this CPU.
