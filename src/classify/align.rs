@@ -107,7 +107,7 @@ impl Warp {
         for v in 0..HEIGHT {
             let row = v * WIDTH..(v + 1) * WIDTH;
             self.project_row(v, &filled[row.clone()], &ir[row.clone()]);
-            self.splat_row(v, &filled[row]);
+            self.splat_row(v, &filled[row.clone()], &ir[row]);
         }
         fill_cracks(&mut self.zbuf[..PIXELS]);
         // Unpack labels and registered depth (where a measured pixel won) in one vectorised pass;
@@ -152,7 +152,7 @@ impl Warp {
     }
 
     #[inline(always)]
-    fn splat_row(&mut self, v: usize, filled: &[u16]) {
+    fn splat_row(&mut self, v: usize, filled: &[u16], ir: &[u8]) {
         // Off-image pixels land in the spare slot past the image: no branch per pixel.
         for (&t, &k) in self.target.iter().zip(&self.keys) {
             let slot = &mut self.zbuf[t as usize];
@@ -170,7 +170,9 @@ impl Warp {
                 continue;
             }
             for u in block..end {
-                if i32::from(filled[u + 1]) - i32::from(filled[u]) >= jump && self.keys[u + 1] != EMPTY {
+                // Background the RGB camera sees there is a hole anyway when the surface beyond the
+                // edge is one (beyond range, black): that is OTHER, which empty pixels become.
+                if i32::from(filled[u + 1]) - i32::from(filled[u]) >= jump && self.keys[u + 1] != EMPTY && ir[u + 1] != OTHER {
                     self.mark_gap(v, u, filled);
                 }
             }
