@@ -48,6 +48,8 @@ pub struct Warp {
     target: Vec<u32>,
     /// Packed z-buffer key of each pixel of the current source row; `EMPTY` for no depth.
     keys: Vec<u32>,
+    /// The previous z-buffer row, kept for the vertical crack test after the row was reset.
+    prev_row: Vec<u32>,
     /// 0.0, 1.0, … 639.0: column numbers as floats (usize → f32 does not vectorise).
     columns: Vec<f32>,
 }
@@ -77,6 +79,7 @@ impl Warp {
             target: vec![OUTSIDE; WIDTH],
             keys: vec![EMPTY; WIDTH],
             columns: (0..WIDTH).map(|u| u as f32).collect(),
+            prev_row: vec![EMPTY; WIDTH],
         }
     }
 
@@ -103,20 +106,26 @@ impl Warp {
 
     #[inline(always)]
     fn apply_body(&mut self, filled: &[u16], ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
-        self.zbuf.fill(EMPTY);
+        // The z-buffer is all EMPTY here: allocated so, and reset row by row by `finish_row`.
         for v in 0..HEIGHT {
             let row = v * WIDTH..(v + 1) * WIDTH;
             self.project_row(v, &filled[row.clone()], &ir[row.clone()]);
             self.splat_row(v, &filled[row.clone()], &ir[row]);
         }
-        fill_cracks(&mut self.zbuf[..PIXELS]);
-        // Unpack labels and registered depth (where a measured pixel won) in one vectorised pass;
-        // nothing landed on EMPTY pixels: outside the IR field of view, so OTHER.
-        for ((m, l), &k) in mm.iter_mut().zip(rgb.iter_mut()).zip(&self.zbuf[..PIXELS]) {
-            *l = k as u8;
-            let measured = u32::from(k & 0xff == u32::from(VALID)).wrapping_neg();
-            *m = ((k >> 8) & measured) as u16;
+        // One pass over the z-buffer while each row is in L1: fill cracks, unpack, reset.
+        for v in 0..HEIGHT {
+            let row = v * WIDTH..(v + 1) * WIDTH;
+            let (done, rest) = self.zbuf.split_at_mut(row.start);
+            let (cur, below) = rest.split_at_mut(WIDTH);
+            let above = (v > 0).then_some(&self.prev_row[..]);
+            let below = (v + 1 < HEIGHT).then(|| &below[..WIDTH]);
+            fill_cracks_row(cur, above, below);
+            unpack_row(cur, &mut rgb[row.clone()], &mut mm[row]);
+            self.prev_row.copy_from_slice(cur);
+            cur.fill(EMPTY);
+            let _ = done;
         }
+        self.zbuf[PIXELS] = EMPTY;
     }
 
     /// Projects every pixel of source row `v` into the RGB image: `n = R·ray(u) + t·iz`, target
@@ -211,55 +220,61 @@ impl Warp {
     }
 }
 
-/// Fills forward-warping cracks: an empty pixel between two filled ones in its row (up to two
-/// pixels wide) or in its column takes the farther neighbour's value, so a crack beside an
+/// Unpacks one z-buffer row into labels and registered depth (where a measured pixel won);
+/// branch-free, so it vectorises. EMPTY carries OTHER in its label byte.
+#[inline(always)]
+fn unpack_row(keys: &[u32], rgb: &mut [u8], mm: &mut [u16]) {
+    for ((m, l), &k) in mm.iter_mut().zip(rgb.iter_mut()).zip(keys) {
+        *l = k as u8;
+        let measured = u32::from(k & 0xff == u32::from(VALID)).wrapping_neg();
+        *m = ((k >> 8) & measured) as u16;
+    }
+}
+
+/// Fills forward-warping cracks in one row: an empty pixel between two filled ones in its row (up
+/// to two pixels wide) or in its column takes the farther neighbour's value, so a crack beside an
 /// alignment gap joins the gap and a crack inside a surface joins the surface. Empty runs at the
-/// ends of rows (outside the IR field of view) are left alone.
-fn fill_cracks(zbuf: &mut [u32]) {
-    let copy = |zbuf: &mut [u32], to: usize, from: usize| zbuf[to] = zbuf[from];
-    for v in 0..HEIGHT {
-        let row = v * WIDTH;
-        let z = &zbuf[row..row + WIDTH];
-        let Some(first) = z.iter().position(|&d| d != EMPTY) else {
-            // A whole empty row between two covered ones (RGB focal length above the IR one).
-            if v > 0 && v + 1 < HEIGHT {
-                for i in row..row + WIDTH {
-                    if zbuf[i - WIDTH] != EMPTY && zbuf[i + WIDTH] != EMPTY {
-                        let from = if zbuf[i - WIDTH] >= zbuf[i + WIDTH] { i - WIDTH } else { i + WIDTH };
-                        copy(zbuf, i, from);
-                    }
+/// ends of the row (outside the IR field of view) are left alone.
+#[inline(always)]
+fn fill_cracks_row(cur: &mut [u32], above: Option<&[u32]>, below: Option<&[u32]>) {
+    let vertical = |cur: &mut [u32], from: usize, to: usize| {
+        if let (Some(a), Some(b)) = (above, below) {
+            for i in from..to {
+                if cur[i] == EMPTY && a[i] != EMPTY && b[i] != EMPTY {
+                    cur[i] = a[i].max(b[i]);
                 }
             }
-            continue;
-        };
-        let last = z.iter().rposition(|&d| d != EMPTY).unwrap();
-        // Most rows have no crack: a branch-free count lets them skip the scan.
-        if z[first..last].iter().fold(0u32, |n, &d| n + u32::from(d == EMPTY)) == 0 {
+        }
+    };
+    let Some(first) = cur.iter().position(|&k| k != EMPTY) else {
+        // A whole empty row between two covered ones (RGB focal length above the IR one).
+        vertical(cur, 0, WIDTH);
+        return;
+    };
+    let last = cur.iter().rposition(|&k| k != EMPTY).unwrap();
+    // Most rows have no crack: a branch-free count lets them skip the scan.
+    if cur[first..last].iter().fold(0u32, |n, &k| n + u32::from(k == EMPTY)) == 0 {
+        return;
+    }
+    let mut u = first + 1;
+    while u < last {
+        // Skip filled stretches 16 pixels at a time (branch-free test).
+        if u + 16 <= last && !cur[u..u + 16].iter().fold(false, |any, &k| any | (k == EMPTY)) {
+            u += 16;
             continue;
         }
-        let mut u = first + 1;
-        while u < last {
-            if zbuf[row + u] != EMPTY {
-                u += 1;
-                continue;
-            }
-            let end = (u..last).find(|&k| zbuf[row + k] != EMPTY).unwrap_or(last);
-            let (a, b) = (row + u - 1, row + end);
-            if end - u <= 2 {
-                let from = if zbuf[a] >= zbuf[b] { a } else { b };
-                for k in row + u..row + end {
-                    copy(zbuf, k, from);
-                }
-            } else if v > 0 && v + 1 < HEIGHT {
-                for i in row + u..row + end {
-                    if zbuf[i - WIDTH] != EMPTY && zbuf[i + WIDTH] != EMPTY {
-                        let from = if zbuf[i - WIDTH] >= zbuf[i + WIDTH] { i - WIDTH } else { i + WIDTH };
-                        copy(zbuf, i, from);
-                    }
-                }
-            }
-            u = end;
+        if cur[u] != EMPTY {
+            u += 1;
+            continue;
         }
+        let end = (u..last).find(|&k| cur[k] != EMPTY).unwrap_or(last);
+        if end - u <= 2 {
+            let fill = cur[u - 1].max(cur[end]);
+            cur[u..end].fill(fill);
+        } else {
+            vertical(cur, u, end);
+        }
+        u = end;
     }
 }
 
