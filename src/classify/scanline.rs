@@ -86,9 +86,10 @@ fn classify_frame_body(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &
     // Last valid raw value seen in each column in the rows above: background for holes that touch
     // the left border, where the row itself has no Sa.
     let mut column_memory = [NO_DEPTH; WIDTH];
+    let far = farthest_measured(raw);
     let rows = raw.chunks_exact(WIDTH).zip(labels.chunks_exact_mut(WIDTH)).zip(filled.chunks_exact_mut(WIDTH));
     for (v, ((row, lab), fill)) in rows.enumerate() {
-        classify_row(p, row, &column_memory, &raw[(v + 1) * WIDTH..], lab, fill);
+        classify_row(p, row, &column_memory, &raw[(v + 1) * WIDTH..], far, lab, fill);
         for (m, &r) in column_memory.iter_mut().zip(row) {
             *m = if r != NO_DEPTH { r } else { *m };
         }
@@ -102,11 +103,19 @@ struct Run {
     end: usize,
 }
 
+/// The largest valid raw value of a frame: the farthest surface the sensor measured in it, a
+/// stand-in for its range limit (branch-free, vectorised).
+pub fn farthest_measured(raw: &[u16]) -> u16 {
+    raw.iter().fold(0, |m, &r| m.max(if r == NO_DEPTH { 0 } else { r }))
+}
+
 /// Classifies one row: `raw` in, `labels` and `filled` out. `above` holds, per column, the last
 /// valid raw value in the rows above (or 2047); `below` is the rest of the frame under this row
-/// (whole rows, possibly empty). Both only serve holes that touch the left border.
+/// (whole rows, possibly empty). Both only serve holes that touch the left border. `far` is the
+/// frame's [`farthest_measured`] raw value.
 #[inline(always)]
-pub fn classify_row(p: &ScanParams, raw: &[u16], above: &[u16], below: &[u16], labels: &mut [u8], filled: &mut [u16]) {
+#[allow(clippy::too_many_arguments)]
+pub fn classify_row(p: &ScanParams, raw: &[u16], above: &[u16], below: &[u16], far: u16, labels: &mut [u8], filled: &mut [u16]) {
     let n = raw.len();
     for ((l, f), &r) in labels.iter_mut().zip(filled.iter_mut()).zip(raw) {
         *l = if r == NO_DEPTH { OTHER } else { VALID };
@@ -120,7 +129,7 @@ pub fn classify_row(p: &ScanParams, raw: &[u16], above: &[u16], below: &[u16], l
         let left = (h.start > 0).then(|| bound_left(raw, h.start));
         let right = (h.end < n).then(|| bound_right(raw, h.end));
         match (left, right) {
-            (Some(sa), Some(sb)) => classify_bounded(p, raw, *h, sa, sb, labels, filled),
+            (Some(sa), Some(sb)) => classify_bounded(p, raw, *h, sa, sb, far, labels, filled),
             (None, Some(sb)) => classify_left_border(p, raw, *h, sb, above, below, labels, filled),
             (Some(sa), None) => fill(filled, *h, sa.far),
             (None, None) => fill(filled, *h, p.fallback_raw),
@@ -235,13 +244,15 @@ fn fill(filled: &mut [u16], h: Run, value: u16) {
 }
 
 /// A hole with valid pixels on both sides.
-fn classify_bounded(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound, labels: &mut [u8], filled: &mut [u16]) {
+#[allow(clippy::too_many_arguments)]
+fn classify_bounded(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound, far: u16, labels: &mut [u8], filled: &mut [u16]) {
     // Shadows lie on the background, so fill with the farther side's depth.
     fill(filled, h, sa.far.max(sb.far));
     // Eq. (3): the attached shadow of Sb on the surface of Sa is w = disp(Sb) − disp(Sa) wide.
     let w = p.disp(sb.near) - p.disp(sa.far);
     if w >= p.min_step && !same_surface(p, raw, h, sa, sb) {
         label_attached(p, raw, h, w, labels);
+        beyond_range(raw, h, far, labels);
         return;
     }
     if let Some(code) = detached(p, raw, h, sa, sb) {
@@ -269,6 +280,33 @@ fn same_surface(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> bo
 fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, labels: &mut [u8]) {
     if (h.end - h.start) as f32 <= w + p.over {
         set(labels, raw, h.start, h.end, ATTACHED);
+    }
+}
+
+/// A shadow falling on a surface that recedes past the sensor's range would be a hole even if
+/// lit, so it is OTHER (SPEC §1): extrapolate Sa's surface across the hole and give back to OTHER
+/// the pixels where it lies farther than anything measured in the frame (`far`).
+fn beyond_range(raw: &[u16], h: Run, far: u16, labels: &mut [u8]) {
+    const SPAN: usize = 16;
+    let a = h.start - 1;
+    // The baseline stays on Sa's surface: it stops at holes and at steps of more than 4 raw units
+    // (half a pixel of disparity), so a depth edge left of Sa cannot fake a steep slope.
+    let mut k = 0;
+    while k < SPAN && a > k && raw[a - k - 1] != NO_DEPTH && raw[a - k].abs_diff(raw[a - k - 1]) <= 4 {
+        k += 1;
+    }
+    if k < 4 {
+        return;
+    }
+    // Raw units per pixel; a long baseline keeps the 1/8-px quantisation noise small.
+    let slope = (f32::from(raw[a]) - f32::from(raw[a - k])) / k as f32;
+    if slope <= 0.05 {
+        return; // level or approaching: it cannot leave the range inside the hole
+    }
+    for (i, l) in labels[h.start..h.end].iter_mut().enumerate() {
+        if f32::from(raw[a]) + slope * (i + 1) as f32 > f32::from(far) + 0.5 && *l != VALID {
+            *l = OTHER;
+        }
     }
 }
 
@@ -400,7 +438,7 @@ mod tests {
         let (_, p) = params();
         let mut labels = vec![ALIGNMENT; row.len()];
         let mut filled = vec![0; row.len()];
-        classify_row(&p, row, &[NO_DEPTH; WIDTH], &[], &mut labels, &mut filled);
+        classify_row(&p, row, &[NO_DEPTH; WIDTH], &[], 2046, &mut labels, &mut filled);
         assert!(filled.iter().all(|&f| f < NO_DEPTH), "every hole gets an assumed depth");
         labels
     }
@@ -496,6 +534,34 @@ mod tests {
     }
 
     #[test]
+    fn shadow_on_wall_receding_out_of_range_is_other_beyond_it() {
+        // Wall receding to the right, last measured at raw 1014 (4.47 m): the box at raw 806
+        // predicts w = 0.1244·(1014 − 806) = 25.9 px, but the wall leaves the range after a few
+        // pixels of the 28 px hole. Only the in-range part is shadow.
+        let (_, p) = params();
+        let mut row: Vec<u16> = (0..WIDTH).map(|u| 1000 + (u as u16) / 6).collect();
+        let (start, end) = (455, 483);
+        for r in &mut row[start..end] {
+            *r = NO_DEPTH;
+        }
+        for r in &mut row[end..] {
+            *r = 806;
+        }
+        let far = *row[..start].iter().max().unwrap();
+        let (mut labels, mut filled) = (vec![0; WIDTH], vec![0; WIDTH]);
+        classify_row(&p, &row, &[NO_DEPTH; WIDTH], &[], far, &mut labels, &mut filled);
+        // slope 1/6 raw per px: within 0.5 raw of `far` for the first 3 pixels.
+        assert!(labels[start..start + 3].iter().all(|&x| x == ATTACHED), "{:?}", &labels[start..end]);
+        assert!(labels[start + 4..end].iter().all(|&x| x == OTHER), "{:?}", &labels[start..end]);
+        // The same hole on a level wall is all shadow.
+        let mut level = vec![1014u16; WIDTH];
+        level[start..end].fill(NO_DEPTH);
+        level[end..].fill(806);
+        classify_row(&p, &level, &[NO_DEPTH; WIDTH], &[], 1014, &mut labels, &mut filled);
+        assert!(labels[start..end].iter().all(|&x| x == ATTACHED));
+    }
+
+    #[test]
     fn noise_island_inside_shadow_does_not_split_it() {
         let (mut row, start, edge) = box_row(2);
         row[start + 10] = row[0]; // one spurious wall pixel inside the shadow
@@ -529,12 +595,12 @@ mod tests {
         }
         let mut labels = vec![0; WIDTH];
         let mut filled = vec![0; WIDTH];
-        classify_row(&p, &row, &[wall; WIDTH], &[], &mut labels, &mut filled);
+        classify_row(&p, &row, &[wall; WIDTH], &[], 2046, &mut labels, &mut filled);
         assert!(labels[..20].iter().all(|&x| x == ATTACHED));
         for r in &mut row[200..] {
             *r = raw_at(&c, 1.0); // the occluder reaches the right border: no background beside it
         }
-        classify_row(&p, &row, &[NO_DEPTH; WIDTH], &[], &mut labels, &mut filled);
+        classify_row(&p, &row, &[NO_DEPTH; WIDTH], &[], 2046, &mut labels, &mut filled);
         assert!(labels[..20].iter().all(|&x| x == OTHER), "no background known: cannot tell");
     }
 
@@ -551,7 +617,7 @@ mod tests {
             *r = NO_DEPTH; // 8 of the pole's 17 px shadow
         }
         let (mut labels, mut filled) = (vec![0; WIDTH], vec![0; WIDTH]);
-        classify_row(&p, &row, &[raw_at(&c, 1.45); WIDTH], &[], &mut labels, &mut filled);
+        classify_row(&p, &row, &[raw_at(&c, 1.45); WIDTH], &[], 2046, &mut labels, &mut filled);
         assert!(labels[..8].iter().all(|&x| x == ATTACHED), "{:?}", &labels[..10]);
     }
 }
