@@ -106,7 +106,16 @@ struct Run {
 /// The largest valid raw value of a frame: the farthest surface the sensor measured in it, a
 /// stand-in for its range limit (branch-free, vectorised).
 pub fn farthest_measured(raw: &[u16]) -> u16 {
-    raw.iter().fold(0, |m, &r| m.max(if r == NO_DEPTH { 0 } else { r }))
+    // Sixteen independent lanes: a single running max is a serial chain the compiler keeps scalar.
+    let mut lanes = [0u16; 16];
+    let chunks = raw.chunks_exact(16);
+    let tail = chunks.remainder().iter().copied().filter(|&r| r != NO_DEPTH).max().unwrap_or(0);
+    for chunk in chunks {
+        for (m, &r) in lanes.iter_mut().zip(chunk) {
+            *m = (*m).max(if r == NO_DEPTH { 0 } else { r });
+        }
+    }
+    lanes.into_iter().max().unwrap_or(0).max(tail)
 }
 
 /// Classifies one row: `raw` in, `labels` and `filled` out. `above` holds, per column, the last
@@ -117,9 +126,9 @@ pub fn farthest_measured(raw: &[u16]) -> u16 {
 #[allow(clippy::too_many_arguments)]
 pub fn classify_row(p: &ScanParams, raw: &[u16], above: &[u16], below: &[u16], far: u16, labels: &mut [u8], filled: &mut [u16]) {
     let n = raw.len();
-    for ((l, f), &r) in labels.iter_mut().zip(filled.iter_mut()).zip(raw) {
-        *l = if r == NO_DEPTH { OTHER } else { VALID };
-        *f = r;
+    filled.copy_from_slice(raw);
+    for (l, &r) in labels.iter_mut().zip(raw) {
+        *l = u8::from(r == NO_DEPTH) * OTHER; // VALID is 0; arithmetic, so it vectorises
     }
     let mut holes = [Run::default(); MAX_RUNS];
     let count = find_holes(raw, &mut holes);
