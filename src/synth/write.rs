@@ -4,7 +4,6 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use image::ImageEncoder;
 
 use super::random::Category;
 use super::render::{render_frame, SynthFrame};
@@ -12,7 +11,7 @@ use super::scene::Scene;
 use super::sensor::SensorModel;
 use crate::calib::Calibration;
 use crate::error::{Error, Result};
-use crate::labels::{self, CLASSES, HEIGHT, PIXELS, WIDTH};
+use crate::labels::{self, CLASSES};
 use crate::recording::pnm;
 
 /// Host time of frame 0 of every simulated recording (deterministic output).
@@ -89,8 +88,8 @@ pub fn write_job(job: &Job, rec_dir: &Path, gt_dir: &Path, tick: &mut dyn FnMut(
         let r = format!("r-{:.6}-{}.ppm", t + 0.002, ts.wrapping_add(4_000));
         pnm::write_depth(&rec_dir.join(&d), &f.raw)?;
         pnm::write_rgb(&rec_dir.join(&r), &f.rgb)?;
-        write_label_png(&gt_dir.join(format!("{i:06}.depth.png")), &f.ir_labels)?;
-        write_label_png(&gt_dir.join(format!("{i:06}.rgb.png")), &f.rgb_labels)?;
+        write_label_png(&label_path(gt_dir, i, "depth"), &f.ir_labels)?;
+        write_label_png(&label_path(gt_dir, i, "rgb"), &f.rgb_labels)?;
         let _ = writeln!(index, "{d}\n{r}");
         for (t, h) in totals.iter_mut().zip(labels::histogram(&f.ir_labels).iter().zip(labels::histogram(&f.rgb_labels))) {
             *t += h.0 + h.1;
@@ -121,15 +120,8 @@ fn write_text(path: &Path, text: &str) -> Result<()> {
     std::fs::write(path, text).map_err(|e| Error::io(path, "writing", e))
 }
 
-/// Writes 640×480 label codes as an 8-bit greyscale PNG (SPEC §4).
-pub fn write_label_png(path: &Path, labels: &[u8]) -> Result<()> {
-    assert_eq!(labels.len(), PIXELS, "a label frame has 640x480 codes");
-    let mut buf = Vec::new();
-    image::codecs::png::PngEncoder::new(&mut buf)
-        .write_image(labels, WIDTH as u32, HEIGHT as u32, image::ExtendedColorType::L8)
-        .map_err(|e| Error::input(path, "", format!("encoding PNG failed: {e}")))?;
-    std::fs::write(path, buf).map_err(|e| Error::io(path, "writing", e))
-}
+pub use crate::sink::labels::write_label_png;
+use crate::sink::labels::label_path;
 
 #[cfg(test)]
 mod tests {
