@@ -126,6 +126,7 @@ use crate::sink::labels::label_path;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::labels::PIXELS;
     use crate::recording::Recording;
 
     #[test]
