@@ -36,6 +36,8 @@ pub struct ScanParams {
     fallback_raw: u16,
     /// Whether this CPU runs the AVX2+FMA build.
     wide: bool,
+    /// Raw-value step of a depth edge (`min_step` pixels of disparity), for flying pixels.
+    edge_raw: u16,
 }
 
 impl ScanParams {
@@ -52,6 +54,7 @@ impl ScanParams {
             max_disp: (calib.fb() / 0.4) as f32,
             fallback_raw: fallback,
             wide: super::align::wide_simd_available(),
+            edge_raw: (p.min_step_px / calib.px_per_raw()).ceil().max(2.0) as u16,
         }
     }
 
@@ -130,6 +133,7 @@ pub fn classify_row(p: &ScanParams, raw: &[u16], above: &[u16], below: &[u16], f
     for (l, &r) in labels.iter_mut().zip(raw) {
         *l = u8::from(r == NO_DEPTH) * OTHER; // VALID is 0; arithmetic, so it vectorises
     }
+    snap_flying_pixels(p, raw, filled);
     let mut holes = [Run::default(); MAX_RUNS];
     let count = find_holes(raw, &mut holes);
     let holes = merge_islands(p, raw, &mut holes[..count]);
@@ -143,6 +147,29 @@ pub fn classify_row(p: &ScanParams, raw: &[u16], above: &[u16], below: &[u16], f
             (Some(sa), None) => fill(filled, *h, sa.far),
             (None, None) => fill(filled, *h, p.fallback_raw),
         }
+    }
+}
+
+/// A "flying" pixel at a depth edge mixes foreground and background into a depth between them:
+/// a surface that is not there, which the RGB camera never sees. For the warp (`filled` only; the
+/// pixel stays VALID with its measured value) it joins the side whose depth it is nearer to, so
+/// the alignment gap opens at the edge instead of around the phantom.
+#[inline(always)]
+fn snap_flying_pixels(p: &ScanParams, raw: &[u16], filled: &mut [u16]) {
+    let big = p.edge_raw;
+    let n = raw.len();
+    // Three shifted views (left, middle, right) and selects instead of branches: vectorises.
+    let triples = raw[..n - 2].iter().zip(&raw[1..n - 1]).zip(&raw[2..]);
+    let quarter = big / 4;
+    // All values are ≤ 2047, so u16 arithmetic (16 lanes per AVX2 instruction) cannot overflow;
+    // where `flying` is false the wrapping differences are garbage and discarded by the select.
+    for (f, ((&a, &m), &b)) in filled[1..n - 1].iter_mut().zip(triples) {
+        let (lo, hi) = (a.min(b), a.max(b));
+        // Strictly between two valid sides a full edge step apart, and clear of both; holes
+        // (2047) are the largest value, so `hi < NO_DEPTH` and `m < NO_DEPTH` exclude them.
+        let flying = (hi < NO_DEPTH) & (m < NO_DEPTH) & (hi.wrapping_sub(lo) >= big) & (m >= lo + quarter) & (m.wrapping_add(quarter) <= hi);
+        let nearer = if m.wrapping_sub(lo) <= hi.wrapping_sub(m) { lo } else { hi };
+        *f = if flying { nearer } else { *f };
     }
 }
 
@@ -568,6 +595,22 @@ mod tests {
         level[end..].fill(806);
         classify_row(&p, &level, &[NO_DEPTH; WIDTH], &[], 1014, &mut labels, &mut filled);
         assert!(labels[start..end].iter().all(|&x| x == ATTACHED));
+    }
+
+    #[test]
+    fn flying_pixel_joins_the_nearer_side_for_the_warp_only() {
+        let (_, p) = params();
+        // Foreground 800, one mixed pixel at 830, background 900: 830 is nearer to 800.
+        let mut row = vec![900u16; WIDTH];
+        row[100..200].fill(800);
+        row[200] = 830;
+        row[300] = 880; // a gentle slope step elsewhere is no flying pixel
+        let (mut labels, mut filled) = (vec![0; WIDTH], vec![0; WIDTH]);
+        classify_row(&p, &row, &[NO_DEPTH; WIDTH], &[], 900, &mut labels, &mut filled);
+        assert_eq!(filled[200], 800);
+        assert_eq!(labels[200], VALID, "the measured pixel keeps its label");
+        assert_eq!(filled[300], 880);
+        assert_eq!(&filled[..200], &row[..200]);
     }
 
     #[test]
