@@ -17,12 +17,17 @@
 use crate::calib::Calibration;
 use crate::labels::{ALIGNMENT, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
 
-/// The z-buffer holds `depth_mm << 8 | label`: the nearer surface wins one integer compare, and
-/// the label travels with its depth (one load and one store per splatted pixel).
-/// Empty: above every key, and its label byte is OTHER (nothing of the IR view lands there).
-const EMPTY: u32 = 0xffff_ff00 | OTHER as u32;
+/// The z-buffer holds `depth_mm << 16 | offset << 3 | label`: the nearer surface wins one integer
+/// compare, and the label travels with its depth (one load and one store per splatted pixel).
+/// Among sources at the same depth (a hole filled with its neighbour's depth, say) the one that
+/// lands nearest the target pixel's centre wins, as in nearest-neighbour resampling; the label
+/// code never decides.
+const LABEL_BITS: u32 = 3;
+const OFFSET_BITS: u32 = 13;
+/// Empty: above every key, and its label bits are OTHER (nothing of the IR view lands there).
+const EMPTY: u32 = u32::MAX & !((1 << LABEL_BITS) - 1) | OTHER as u32;
 /// Z-buffer value of an alignment-shadow pixel: behind every real surface.
-const GAP: u32 = (0xfffe << 8) | ALIGNMENT as u32;
+const GAP: u32 = (0xfffe << (LABEL_BITS + OFFSET_BITS)) | ALIGNMENT as u32;
 /// Target index of a source pixel that lands outside the RGB image: a spare z-buffer slot.
 const OUTSIDE: u32 = PIXELS as u32;
 
@@ -153,10 +158,14 @@ impl Warp {
             // `&`, not `&&`: no short-circuit branches in the vector loop.
             let inside = valid & (x > -0.5) & (x < w) & (y > -0.5) & (y < h);
             // Lanes that are not `inside` may hold garbage here; the select below drops them.
-            let index = round_f32(y) * WIDTH as f32 + round_f32(x);
+            let (rx, ry) = (round_f32(x), round_f32(y));
+            let index = ry * WIDTH as f32 + rx;
             *t_out = if inside { round_bits(index) } else { OUTSIDE };
             let z = round_bits(clamp_fast(1000.0 * nz * nz * r, 1.0, 65000.0));
-            *k_out = if valid { (z << 8) | u32::from(label) } else { EMPTY };
+            // Rounding offset |dx| + |dy| ≤ 1 on inside lanes (others land in the spare slot).
+            let offset = round_bits(((x - rx).abs() + (y - ry).abs()) * 8000.0);
+            let key = (z << (LABEL_BITS + OFFSET_BITS)) | (offset << LABEL_BITS) | u32::from(label);
+            *k_out = if valid { key } else { EMPTY };
         }
     }
 
@@ -221,13 +230,14 @@ impl Warp {
 }
 
 /// Unpacks one z-buffer row into labels and registered depth (where a measured pixel won);
-/// branch-free, so it vectorises. EMPTY carries OTHER in its label byte.
+/// branch-free, so it vectorises. EMPTY carries OTHER in its label bits.
 #[inline(always)]
 fn unpack_row(keys: &[u32], rgb: &mut [u8], mm: &mut [u16]) {
     for ((m, l), &k) in mm.iter_mut().zip(rgb.iter_mut()).zip(keys) {
-        *l = k as u8;
-        let measured = u32::from(k & 0xff == u32::from(VALID)).wrapping_neg();
-        *m = ((k >> 8) & measured) as u16;
+        let label = k & ((1 << LABEL_BITS) - 1);
+        *l = label as u8;
+        let measured = u32::from(label == u32::from(VALID)).wrapping_neg();
+        *m = ((k >> (LABEL_BITS + OFFSET_BITS)) & measured) as u16;
     }
 }
 
