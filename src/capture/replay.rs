@@ -10,12 +10,14 @@ pub struct ReplaySource {
     recording: Recording,
     next: usize,
     with_rgb: bool,
+    /// File bytes, reused frame after frame.
+    scratch: Vec<u8>,
 }
 
 impl ReplaySource {
     /// A source over `recording`; RGB frames are read only when `with_rgb` (a sink needs them).
     pub fn new(recording: Recording, with_rgb: bool) -> Self {
-        ReplaySource { recording, next: 0, with_rgb }
+        ReplaySource { recording, next: 0, with_rgb, scratch: Vec::new() }
     }
 }
 
@@ -24,8 +26,8 @@ impl Source for ReplaySource {
         let Some(meta) = self.recording.frames().get(self.next) else { return Ok(false) };
         frame.device_ts = meta.depth.device_ts;
         frame.unix_time = meta.depth.unix_time;
-        self.recording.read_depth(self.next, &mut frame.depth)?;
-        frame.has_rgb = self.with_rgb && self.recording.read_rgb(self.next, &mut frame.rgb)?;
+        self.recording.read_depth_with(self.next, &mut self.scratch, &mut frame.depth)?;
+        frame.has_rgb = self.with_rgb && self.recording.read_rgb_with(self.next, &mut self.scratch, &mut frame.rgb)?;
         self.next += 1;
         Ok(true)
     }

@@ -132,13 +132,23 @@ impl Recording {
 
     /// Reads depth frame `i` into `out` (640·480 raw values).
     pub fn read_depth(&self, i: usize, out: &mut [u16]) -> Result<()> {
-        pnm::read_depth(&self.dir.join(&self.frames[i].depth.name), out)
+        self.read_depth_with(i, &mut Vec::new(), out)
+    }
+
+    /// [`Recording::read_depth`] reusing `scratch` for the file's bytes.
+    pub fn read_depth_with(&self, i: usize, scratch: &mut Vec<u8>, out: &mut [u16]) -> Result<()> {
+        pnm::read_depth_with(&self.dir.join(&self.frames[i].depth.name), scratch, out)
     }
 
     /// Reads the RGB frame paired with depth frame `i` into `out`; `Ok(false)` if there is none.
     pub fn read_rgb(&self, i: usize, out: &mut [u8]) -> Result<bool> {
+        self.read_rgb_with(i, &mut Vec::new(), out)
+    }
+
+    /// [`Recording::read_rgb`] reusing `scratch` for the file's bytes.
+    pub fn read_rgb_with(&self, i: usize, scratch: &mut Vec<u8>, out: &mut [u8]) -> Result<bool> {
         match &self.frames[i].rgb {
-            Some(e) => pnm::read_rgb(&self.dir.join(&e.name), out).map(|_| true),
+            Some(e) => pnm::read_rgb_with(&self.dir.join(&e.name), scratch, out).map(|_| true),
             None => Ok(false),
         }
     }

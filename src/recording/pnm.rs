@@ -52,8 +52,12 @@ fn parse_header(path: &Path, bytes: &[u8]) -> Result<Header> {
     Ok(Header { magic, width: fields[0], height: fields[1], maxval: fields[2], data_start: pos + 1 })
 }
 
-fn read_file(path: &Path) -> Result<Vec<u8>> {
-    std::fs::read(path).map_err(|e| Error::io(path, "reading", e))
+/// Reads a whole file into `buf`, reusing its allocation (frames are read every 33 ms).
+fn read_file_into(path: &Path, buf: &mut Vec<u8>) -> Result<()> {
+    use std::io::Read;
+    buf.clear();
+    std::fs::File::open(path).and_then(|mut f| f.read_to_end(buf)).map_err(|e| Error::io(path, "reading", e))?;
+    Ok(())
 }
 
 fn check_body(path: &Path, h: &Header, bytes: &[u8], want_magic: &[u8; 2], want_max: usize, bytes_per_px: usize) -> Result<()> {
@@ -84,8 +88,13 @@ fn check_body(path: &Path, h: &Header, bytes: &[u8], want_magic: &[u8; 2], want_
 /// Reads a fakenect depth frame into `out` (640·480 raw values, 2047 = no depth).
 /// Values above 2047 are rejected: they cannot come from an 11-bit sensor.
 pub fn read_depth(path: &Path, out: &mut [u16]) -> Result<()> {
-    let bytes = read_file(path)?;
-    decode_depth(path, &bytes, out)
+    read_depth_with(path, &mut Vec::new(), out)
+}
+
+/// [`read_depth`] reusing `scratch` for the file's bytes, so a replay allocates nothing per frame.
+pub fn read_depth_with(path: &Path, scratch: &mut Vec<u8>, out: &mut [u16]) -> Result<()> {
+    read_file_into(path, scratch)?;
+    decode_depth(path, scratch, out)
 }
 
 /// Decodes the bytes of a depth PGM (see [`read_depth`]).
@@ -110,10 +119,16 @@ pub fn decode_depth(path: &Path, bytes: &[u8], out: &mut [u16]) -> Result<()> {
 
 /// Reads a fakenect RGB frame into `out` (640·480·3 bytes).
 pub fn read_rgb(path: &Path, out: &mut [u8]) -> Result<()> {
-    let bytes = read_file(path)?;
+    read_rgb_with(path, &mut Vec::new(), out)
+}
+
+/// [`read_rgb`] reusing `scratch` for the file's bytes.
+pub fn read_rgb_with(path: &Path, scratch: &mut Vec<u8>, out: &mut [u8]) -> Result<()> {
+    read_file_into(path, scratch)?;
+    let bytes: &[u8] = scratch;
     assert_eq!(out.len(), PIXELS * 3);
-    let h = parse_header(path, &bytes)?;
-    check_body(path, &h, &bytes, b"P6", 255, 3)?;
+    let h = parse_header(path, bytes)?;
+    check_body(path, &h, bytes, b"P6", 255, 3)?;
     out.copy_from_slice(&bytes[h.data_start..]);
     Ok(())
 }

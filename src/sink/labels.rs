@@ -51,13 +51,18 @@ pub fn read_label_png(path: &Path, out: &mut [u8]) -> Result<()> {
 /// Writes labels as a SPEC §4 PNG. The file appears whole or not at all: it is written beside
 /// the target and renamed, so an interrupted run never leaves a truncated PNG.
 pub fn write_label_png(path: &Path, labels: &[u8]) -> Result<()> {
+    write_label_png_with(path, labels, &mut Vec::new())
+}
+
+/// [`write_label_png`] encoding into `buf`, reused from frame to frame.
+pub fn write_label_png_with(path: &Path, labels: &[u8], buf: &mut Vec<u8>) -> Result<()> {
     assert_eq!(labels.len(), PIXELS, "a label frame has 640x480 codes");
-    let mut buf = Vec::with_capacity(PIXELS / 8);
+    buf.clear();
     // Label maps are large flat areas: fast compression is nearly as small and several times quicker.
-    image::codecs::png::PngEncoder::new_with_quality(&mut buf, image::codecs::png::CompressionType::Fast, image::codecs::png::FilterType::Sub)
+    image::codecs::png::PngEncoder::new_with_quality(&mut *buf, image::codecs::png::CompressionType::Fast, image::codecs::png::FilterType::Sub)
         .write_image(labels, WIDTH as u32, HEIGHT as u32, image::ExtendedColorType::L8)
         .map_err(|e| Error::input(path, "", format!("encoding PNG failed: {e}")))?;
-    write_atomically(path, &buf)
+    write_atomically(path, buf)
 }
 
 /// Writes `bytes` to `path` through a temporary file in the same folder and a rename.

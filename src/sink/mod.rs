@@ -22,20 +22,22 @@ pub trait Sink: Send {
 /// Writes SPEC §4 files: `<dir>/<i:06>.depth.png` and `<dir>/<i:06>.rgb.png` per frame.
 pub struct LabelExport {
     dir: PathBuf,
+    /// PNG bytes, reused frame after frame.
+    buf: Vec<u8>,
 }
 
 impl LabelExport {
     /// Creates `dir` (and parents) if needed.
     pub fn create(dir: &Path) -> Result<Self> {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating folder", e))?;
-        Ok(LabelExport { dir: dir.to_path_buf() })
+        Ok(LabelExport { dir: dir.to_path_buf(), buf: Vec::new() })
     }
 }
 
 impl Sink for LabelExport {
     fn write(&mut self, frame: &Frame) -> Result<()> {
         let i = frame.seq as usize;
-        labels::write_label_png(&labels::label_path(&self.dir, i, "depth"), &frame.labels.ir_labels)?;
-        labels::write_label_png(&labels::label_path(&self.dir, i, "rgb"), &frame.labels.rgb_labels)
+        labels::write_label_png_with(&labels::label_path(&self.dir, i, "depth"), &frame.labels.ir_labels, &mut self.buf)?;
+        labels::write_label_png_with(&labels::label_path(&self.dir, i, "rgb"), &frame.labels.rgb_labels, &mut self.buf)
     }
 }
