@@ -29,6 +29,9 @@ pub struct LabelExport {
 impl LabelExport {
     /// Creates `dir` (and parents) if needed.
     pub fn create(dir: &Path) -> Result<Self> {
+        if dir.exists() && !dir.is_dir() {
+            return Err(Error::input(dir, "", "exists and is not a folder: label export needs a folder to write <i>.depth.png and <i>.rgb.png into"));
+        }
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating folder", e))?;
         Ok(LabelExport { dir: dir.to_path_buf(), buf: Vec::new() })
     }
