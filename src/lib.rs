@@ -7,6 +7,8 @@
 //! [`synth`] is the simulator with exact ground truth, [`eval`] scores labels against it,
 //! [`render`] draws a frame for people, [`cli`] is the `umbra` command.
 
+#![warn(missing_docs)]
+
 pub mod calib;
 pub mod capture;
 pub mod classify;

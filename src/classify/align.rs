@@ -25,7 +25,7 @@ use crate::labels::{ALIGNMENT, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
 const LABEL_BITS: u32 = 3;
 const OFFSET_BITS: u32 = 13;
 /// Empty: above every key, and its label bits are OTHER (nothing of the IR view lands there).
-const EMPTY: u32 = u32::MAX & !((1 << LABEL_BITS) - 1) | OTHER as u32;
+const EMPTY: u32 = !((1 << LABEL_BITS) - 1) | OTHER as u32;
 /// Z-buffer value of an alignment-shadow pixel: behind every real surface.
 const GAP: u32 = (0xfffe << (LABEL_BITS + OFFSET_BITS)) | ALIGNMENT as u32;
 /// Target index of a source pixel that lands outside the RGB image: a spare z-buffer slot.

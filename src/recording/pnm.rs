@@ -137,7 +137,7 @@ pub fn read_rgb_with(path: &Path, scratch: &mut Vec<u8>, out: &mut [u8]) -> Resu
 pub fn write_depth(path: &Path, depth: &[u16]) -> Result<()> {
     assert_eq!(depth.len(), PIXELS);
     let mut buf = Vec::with_capacity(PIXELS * 2 + 20);
-    write!(buf, "P5 {WIDTH} {HEIGHT} 65535\n").unwrap();
+    writeln!(buf, "P5 {WIDTH} {HEIGHT} 65535").unwrap();
     for v in depth {
         buf.extend_from_slice(&v.to_le_bytes());
     }
@@ -148,7 +148,7 @@ pub fn write_depth(path: &Path, depth: &[u16]) -> Result<()> {
 pub fn write_rgb(path: &Path, rgb: &[u8]) -> Result<()> {
     assert_eq!(rgb.len(), PIXELS * 3);
     let mut buf = Vec::with_capacity(PIXELS * 3 + 20);
-    write!(buf, "P6 {WIDTH} {HEIGHT} 255\n").unwrap();
+    writeln!(buf, "P6 {WIDTH} {HEIGHT} 255").unwrap();
     buf.extend_from_slice(rgb);
     std::fs::write(path, buf).map_err(|e| Error::io(path, "writing", e))
 }
