@@ -17,11 +17,11 @@
 use crate::calib::Calibration;
 use crate::labels::{ALIGNMENT, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
 
-/// The z-buffer holds `depth_mm << 16 | offset << 3 | label`: the nearer surface wins one integer
+/// The z-buffer holds `depth_mm << 16 | parity << 3 | label`: the nearer surface wins one integer
 /// compare, and the label travels with its depth (one load and one store per splatted pixel).
-/// Among sources at the same depth (a hole filled with its neighbour's depth, say) the one that
-/// lands nearest the target pixel's centre wins, as in nearest-neighbour resampling; the label
-/// code never decides.
+/// Sources at exactly the same depth (a hole filled with its neighbour's depth, say) are
+/// neighbours; the parity of `u + v` differs between any two of them and decides, so the label
+/// code never does (that biased every boundary towards VALID).
 const LABEL_BITS: u32 = 3;
 const OFFSET_BITS: u32 = 13;
 /// Empty: above every key, and its label bits are OTHER (nothing of the IR view lands there).
@@ -55,6 +55,8 @@ pub struct Warp {
     keys: Vec<u32>,
     /// The previous z-buffer row, kept for the vertical crack test after the row was reset.
     prev_row: Vec<u32>,
+    /// `(u & 1) << LABEL_BITS` per column, for the tie-break bit.
+    parity: Vec<u32>,
     /// 0.0, 1.0, … 639.0: column numbers as floats (usize → f32 does not vectorise).
     columns: Vec<f32>,
 }
@@ -84,6 +86,7 @@ impl Warp {
             target: vec![OUTSIDE; WIDTH],
             keys: vec![EMPTY; WIDTH],
             columns: (0..WIDTH).map(|u| u as f32).collect(),
+            parity: (0..WIDTH).map(|u| ((u & 1) as u32) << LABEL_BITS).collect(),
             prev_row: vec![EMPTY; WIDTH],
         }
     }
@@ -147,7 +150,10 @@ impl Warp {
         let (w, h) = (WIDTH as f32 - 0.5, HEIGHT as f32 - 0.5);
         let (iz_scale, iz_offset) = (self.iz_scale, self.iz_offset);
         let out = self.target.iter_mut().zip(self.keys.iter_mut());
-        for ((t_out, k_out), ((&raw, &uf), &label)) in out.zip(filled.iter().zip(&self.columns).zip(ir)) {
+        // Bit LABEL_BITS holds the parity of u + v: the columns' parities, flipped on odd rows.
+        let flip = ((v & 1) as u32) << LABEL_BITS;
+        let inputs = filled.iter().zip(&self.columns).zip(ir).zip(&self.parity);
+        for ((t_out, k_out), (((&raw, &uf), &label), &parity)) in out.zip(inputs) {
             let iz = f32::from(raw) * iz_scale + iz_offset;
             let nz = bz + uf * sz + tz * iz;
             let r = 1.0 / (nz * iz);
@@ -158,13 +164,10 @@ impl Warp {
             // `&`, not `&&`: no short-circuit branches in the vector loop.
             let inside = valid & (x > -0.5) & (x < w) & (y > -0.5) & (y < h);
             // Lanes that are not `inside` may hold garbage here; the select below drops them.
-            let (rx, ry) = (round_f32(x), round_f32(y));
-            let index = ry * WIDTH as f32 + rx;
+            let index = round_f32(y) * WIDTH as f32 + round_f32(x);
             *t_out = if inside { round_bits(index) } else { OUTSIDE };
             let z = round_bits(clamp_fast(1000.0 * nz * nz * r, 1.0, 65000.0));
-            // Rounding offset |dx| + |dy| ≤ 1 on inside lanes (others land in the spare slot).
-            let offset = round_bits(((x - rx).abs() + (y - ry).abs()) * 8000.0);
-            let key = (z << (LABEL_BITS + OFFSET_BITS)) | (offset << LABEL_BITS) | u32::from(label);
+            let key = (z << (LABEL_BITS + OFFSET_BITS)) | (parity ^ flip) | u32::from(label);
             *k_out = if valid { key } else { EMPTY };
         }
     }
