@@ -23,11 +23,12 @@ use crate::labels::{ALIGNMENT, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
 /// neighbours; the parity of `u + v` differs between any two of them and decides, so the label
 /// code never does (that biased every boundary towards VALID).
 const LABEL_BITS: u32 = 3;
-const OFFSET_BITS: u32 = 13;
+/// Bits between label and depth; the lowest holds the tie-break parity.
+const TIE_BITS: u32 = 13;
 /// Empty: above every key, and its label bits are OTHER (nothing of the IR view lands there).
 const EMPTY: u32 = !((1 << LABEL_BITS) - 1) | OTHER as u32;
 /// Z-buffer value of an alignment-shadow pixel: behind every real surface.
-const GAP: u32 = (0xfffe << (LABEL_BITS + OFFSET_BITS)) | ALIGNMENT as u32;
+const GAP: u32 = (0xfffe << (LABEL_BITS + TIE_BITS)) | ALIGNMENT as u32;
 /// Target index of a source pixel that lands outside the RGB image: a spare z-buffer slot.
 const OUTSIDE: u32 = PIXELS as u32;
 
@@ -167,7 +168,7 @@ impl Warp {
             let index = round_f32(y) * WIDTH as f32 + round_f32(x);
             *t_out = if inside { round_bits(index) } else { OUTSIDE };
             let z = round_bits(clamp_fast(1000.0 * nz * nz * r, 1.0, 65000.0));
-            let key = (z << (LABEL_BITS + OFFSET_BITS)) | (parity ^ flip) | u32::from(label);
+            let key = (z << (LABEL_BITS + TIE_BITS)) | (parity ^ flip) | u32::from(label);
             *k_out = if valid { key } else { EMPTY };
         }
     }
@@ -240,7 +241,7 @@ fn unpack_row(keys: &[u32], rgb: &mut [u8], mm: &mut [u16]) {
         let label = k & ((1 << LABEL_BITS) - 1);
         *l = label as u8;
         let measured = u32::from(label == u32::from(VALID)).wrapping_neg();
-        *m = ((k >> (LABEL_BITS + OFFSET_BITS)) & measured) as u16;
+        *m = ((k >> (LABEL_BITS + TIE_BITS)) & measured) as u16;
     }
 }
 
