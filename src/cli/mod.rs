@@ -4,6 +4,7 @@ pub mod eval;
 pub mod render;
 pub mod replay;
 pub mod synth;
+pub mod tail;
 
 use clap::{Parser, Subcommand};
 
@@ -30,6 +31,8 @@ pub enum Command {
     Synth(synth::Args),
     /// Score the classifier on recordings against ground-truth labels.
     Eval(eval::Args),
+    /// Print (and export) the frames of MCAP segments; --follow reads them as they are written.
+    Tail(tail::Args),
 }
 
 /// The progress bar every long-running subcommand shows on stderr (hidden when stderr is not a
@@ -48,5 +51,6 @@ pub fn run(cli: Cli) -> crate::Result<()> {
         Command::Render(a) => render::run(a),
         Command::Synth(a) => synth::run(a),
         Command::Eval(a) => eval::run(a),
+        Command::Tail(a) => tail::run(a),
     }
 }
