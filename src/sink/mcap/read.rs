@@ -207,12 +207,12 @@ impl SegmentReader {
     fn record(&mut self, opcode: u8, data: &[u8], on_frame: &mut dyn FnMut(Recorded) -> Result<()>) -> Result<(), Problem> {
         match ::mcap::parse_record(opcode, data).map_err(|e| Problem::Bad(format!("record with opcode {opcode:#04x} does not parse: {e}")))? {
             Record::Chunk { header, data } => {
-                let records = ::mcap::read::ChunkReader::new(header, &data).map_err(|e| Problem::Bad(format!("chunk: {e}")))?;
-                for r in records {
-                    let r = r.map_err(|e| Problem::Bad(format!("chunk: {e}")))?;
-                    self.inner(r, on_frame)?;
-                }
-                Ok(())
+                // All records first: the chunk's CRC is checked at its end, and nothing of a
+                // damaged chunk may be returned.
+                let records = ::mcap::read::ChunkReader::new(header, &data)
+                    .and_then(|r| r.collect::<Result<Vec<_>, _>>())
+                    .map_err(|e| Problem::Bad(format!("chunk: {e}")))?;
+                records.into_iter().try_for_each(|r| self.inner(r, on_frame))
             }
             other => self.inner(other, on_frame),
         }
