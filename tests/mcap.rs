@@ -103,7 +103,7 @@ fn frames_round_trip_byte_for_byte() {
         assert_same(b, f, true);
     }
     // The frames had some shadow to label, so the comparison means something.
-    assert!(input[0].labels.ir_labels.iter().any(|&l| l == umbra::labels::ATTACHED));
+    assert!(input[0].labels.ir_labels.contains(&umbra::labels::ATTACHED));
     assert_eq!(sink.counters().frames_written.load(Ordering::Relaxed), 4);
 
     // Without the RGB option, no RGB topic; everything else the same.

@@ -59,6 +59,8 @@ pub struct McapOptions {
     /// After a write failure, wait this long before trying to open a new segment (frames in
     /// between are counted as lost), so a full disk is not hammered 30 times a second.
     pub retry_interval: Duration,
+    /// `fdatasync` the open segment at most this often (`None`: leave it to the kernel).
+    pub sync_interval: Option<Duration>,
 }
 
 impl Default for McapOptions {
@@ -70,6 +72,7 @@ impl Default for McapOptions {
             write_rgb: false,
             zstd_level: 1,
             retry_interval: Duration::from_secs(1),
+            sync_interval: Some(Duration::from_secs(1)),
         }
     }
 }
@@ -181,7 +184,7 @@ impl McapSink {
     /// The open segment, opening a new one (and applying the size cap) if there is none.
     fn segment(&mut self) -> Result<&mut SegmentWriter, writer::WriteError> {
         if self.current.is_none() {
-            let settings = SegmentSettings { zstd_level: self.opts.zstd_level, write_rgb: self.opts.write_rgb };
+            let settings = SegmentSettings { zstd_level: self.opts.zstd_level, write_rgb: self.opts.write_rgb, sync_interval: self.opts.sync_interval };
             let mut path;
             loop {
                 path = self.dir.join(segment::segment_name(SystemTime::now(), self.next_index));
@@ -228,8 +231,9 @@ impl McapSink {
 }
 
 impl Sink for McapSink {
-    /// Latency is measured from the frame's receive time to now; frames dropped before this one
-    /// are inferred from a gap in `seq`.
+    /// Latency is measured from the frame's `unix_time` to now (meaningful for live capture;
+    /// a replayed recording carries its recorded times, so its caller should use
+    /// [`McapSink::write_with`]); frames dropped before this one are inferred from a gap in `seq`.
     fn write(&mut self, frame: &Frame) -> Result<()> {
         let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0.0, |d| d.as_secs_f64());
         let latency_ms = ((now - frame.unix_time) * 1e3).max(0.0);

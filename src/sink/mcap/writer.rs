@@ -17,7 +17,7 @@ use std::io::{BufWriter, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use ::mcap::records::MessageHeader;
 use ::mcap::{Compression, McapError, WriteOptions};
@@ -55,6 +55,10 @@ pub struct SegmentSettings {
     pub zstd_level: u32,
     /// Write `/kinect/rgb/image_raw` for frames that have RGB.
     pub write_rgb: bool,
+    /// Flush the segment to the disk itself (`fdatasync`) at most this often; `None` leaves it
+    /// to the kernel. After `kill -9` the page cache keeps every complete chunk anyway; this
+    /// bounds what a power cut can take.
+    pub sync_interval: Option<Duration>,
 }
 
 /// One open segment file.
@@ -71,6 +75,8 @@ pub struct SegmentWriter {
     /// Serialisation buffer, reused for every message.
     buf: Vec<u8>,
     frames: u64,
+    /// A second handle on the file, for `sync_data` (the writer owns the first).
+    sync: Option<(File, Duration, Instant)>,
 }
 
 struct Channels {
@@ -86,6 +92,10 @@ impl SegmentWriter {
     /// Creates `path` (which must not exist) and writes the MCAP header, schemas and channels.
     pub fn create(path: &Path, settings: &SegmentSettings) -> Result<Self, WriteError> {
         let file = File::options().write(true).create_new(true).open(path).map_err(|e| WriteError::new(path, "creating segment", e))?;
+        let sync = match settings.sync_interval {
+            Some(every) => Some((file.try_clone().map_err(|e| WriteError::new(path, "opening segment", e))?, every, Instant::now())),
+            None => None,
+        };
         let written = Arc::new(AtomicU64::new(0));
         let sink = BufWriter::with_capacity(1 << 16, CountingFile { file, written: written.clone() });
         let opts = WriteOptions::new()
@@ -114,7 +124,7 @@ impl SegmentWriter {
         // Header, schemas and channels reach the disk now, so a reader sees a valid file at once.
         writer.flush().map_err(|e| fail("writing MCAP header", e))?;
         let good_len = written.load(Ordering::Relaxed);
-        Ok(SegmentWriter { path: path.to_path_buf(), writer, written, good_len, opened: Instant::now(), channels, write_rgb: settings.write_rgb, buf: Vec::new(), frames: 0 })
+        Ok(SegmentWriter { path: path.to_path_buf(), writer, written, good_len, opened: Instant::now(), channels, write_rgb: settings.write_rgb, buf: Vec::new(), frames: 0, sync })
     }
 
     /// The segment's file.
@@ -156,7 +166,7 @@ impl SegmentWriter {
         }
         // MCAP's per-channel sequence is 32-bit; the full seq is in the stats message.
         let header = |channel_id| MessageHeader { channel_id, sequence: frame.seq as u32, log_time: time, publish_time: time };
-        let result = (|| {
+        let result = (|| -> Result<(), McapError> {
             for (channel, h, pixels) in &messages {
                 self.buf.clear();
                 ros2::encode_image(h, *pixels, &mut self.buf);
@@ -165,7 +175,14 @@ impl SegmentWriter {
             self.buf.clear();
             serde_json::to_writer(&mut self.buf, stats).expect("stats serialise to JSON");
             self.writer.write_to_known_channel(&header(self.channels.stats), &self.buf)?;
-            self.writer.flush()
+            self.writer.flush()?;
+            if let Some((file, every, last)) = &mut self.sync {
+                if last.elapsed() >= *every {
+                    file.sync_data()?;
+                    *last = Instant::now();
+                }
+            }
+            Ok(())
         })();
         match result {
             Ok(()) => {
@@ -180,8 +197,9 @@ impl SegmentWriter {
     /// Writes the summary section and footer and closes the file. On failure the segment is
     /// [abandoned](Self::abandon).
     pub fn finish(mut self) -> Result<PathBuf, WriteError> {
-        match self.writer.finish() {
-            Ok(_) => Ok(self.path),
+        let synced = |s: &Self| s.sync.as_ref().map_or(Ok(()), |(f, _, _)| f.sync_data().map_err(McapError::from));
+        match self.writer.finish().and_then(|_| synced(&self)) {
+            Ok(()) => Ok(self.path),
             Err(e) => {
                 let err = WriteError::new(&self.path, "writing the segment summary", e);
                 self.abandon();
