@@ -8,6 +8,7 @@ use crate::config::Config;
 use crate::labels::{CLASSES, NAMES};
 use crate::pipeline::{self, Options, Stats};
 use crate::recording::Recording;
+use crate::sink::mcap::{McapOptions, McapSink};
 use crate::sink::{LabelExport, Sink};
 
 /// Arguments of `umbra replay`.
@@ -18,9 +19,29 @@ pub struct Args {
     /// Write SPEC §4 label PNGs (<i:06>.depth.png, <i:06>.rgb.png) into this folder.
     #[arg(long, value_name = "DIR")]
     pub export_labels: Option<PathBuf>,
+    /// Also write the frames as MCAP segments (ROS 2 sensor_msgs/Image topics) into this folder,
+    /// for Foxglove, `ros2 bag` or `umbra tail`.
+    #[arg(long, value_name = "DIR")]
+    pub mcap: Option<PathBuf>,
     /// Settings file (see config/umbra.toml); built-in defaults without it.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
+}
+
+/// A replay is not live: there is no capture latency and nothing is dropped, so frames go to the
+/// MCAP sink with latency 0 and no drops (its `Sink::write` would derive latency from the
+/// recording's old timestamps).
+struct ReplayMcap(McapSink);
+
+impl Sink for ReplayMcap {
+    fn write(&mut self, frame: &crate::pipeline::Frame) -> crate::Result<()> {
+        self.0.write_with(frame, 0.0, 0);
+        Ok(())
+    }
+
+    fn finish(&mut self) -> crate::Result<()> {
+        self.0.finish()
+    }
 }
 
 /// Runs `umbra replay`.
@@ -33,6 +54,15 @@ pub fn run(a: Args) -> crate::Result<()> {
     if let Some(dir) = &a.export_labels {
         sinks.push(Box::new(LabelExport::create(dir)?));
     }
+    let mcap_counters = match &a.mcap {
+        Some(dir) => {
+            let sink = McapSink::create(dir, McapOptions::default())?;
+            let counters = sink.counters();
+            sinks.push(Box::new(ReplayMcap(sink)));
+            Some(counters)
+        }
+        None => None,
+    };
     let bar = super::progress_bar(rec.len() as u64, "frames");
     let source = Box::new(ReplaySource::new(rec, false));
     let stats = pipeline::run(source, classifier, &mut sinks, Options::default(), |_| bar.inc(1));
@@ -41,6 +71,15 @@ pub fn run(a: Args) -> crate::Result<()> {
     print!("{}", summary(&stats));
     if let Some(dir) = &a.export_labels {
         println!("labels written to {}", dir.display());
+    }
+    if let (Some(dir), Some(c)) = (&a.mcap, mcap_counters) {
+        // The MCAP sink keeps going through write errors (a daemon must); a replay must not
+        // pretend it wrote everything.
+        let lost = c.frames_lost.load(std::sync::atomic::Ordering::Relaxed);
+        if lost > 0 {
+            return Err(crate::Error::input(dir, "", format!("{lost} of {} frames could not be written (see the warnings above)", stats.frames)));
+        }
+        println!("MCAP segments written to {}", dir.display());
     }
     Ok(())
 }
