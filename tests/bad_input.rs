@@ -1,0 +1,467 @@
+//! SPEC §5 through the real `umbra` binary: every malformed input (recording folder, INDEX.txt,
+//! depth PGM, RGB PPM, calibration.toml, device.json, config, ground truth, output path, frame
+//! request) must end with a non-zero exit status and exactly ONE stderr line
+//! `umbra: error: <file>: <place>: <what was expected>`, no panic or backtrace, and nothing
+//! already written may be lost or damaged.
+//!
+//! A valid two-frame recording and its ground truth are simulated once (`umbra synth`) under
+//! cargo's target tmp folder; each case copies it and breaks one thing.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+const W: usize = 640;
+const H: usize = 480;
+const DEPTH_HEADER: &[u8] = b"P5 640 480 65535\n";
+
+/// Runs `umbra` with `args`; returns (success, stderr).
+fn umbra(args: &[&str]) -> (bool, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_umbra"))
+        .args(args)
+        .env_remove("RUST_LOG")
+        .output()
+        .expect("run the umbra binary");
+    (out.status.success(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+fn s(p: &Path) -> String {
+    p.display().to_string()
+}
+
+/// The pristine recording (`good/`) and ground truth (`gt/`), made once per test process.
+fn pristine() -> &'static Path {
+    static DIR: OnceLock<tempfile::TempDir> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let dir = tempfile::Builder::new().prefix("bad_input-").tempdir_in(env!("CARGO_TARGET_TMPDIR")).unwrap();
+        let (rec, gt) = (dir.path().join("good"), dir.path().join("gt"));
+        let (ok, err) = umbra(&["synth", &s(&rec), "--gt", &s(&gt), "--scene", "box", "--frames", "2", "--seed", "1"]);
+        assert!(ok, "umbra synth failed: {err}");
+        dir
+    })
+    .path()
+}
+
+/// One case's scratch folder with its own copy of the recording (`rec/`) and ground truth (`gt/`).
+struct Case {
+    tmp: tempfile::TempDir,
+}
+
+impl Case {
+    fn new() -> Self {
+        let tmp = tempfile::tempdir().unwrap();
+        copy_dir(&pristine().join("good"), &tmp.path().join("rec"));
+        copy_dir(&pristine().join("gt"), &tmp.path().join("gt"));
+        Case { tmp }
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.tmp.path().join(name)
+    }
+
+    fn rec(&self) -> PathBuf {
+        self.path("rec")
+    }
+
+    fn gt(&self) -> PathBuf {
+        self.path("gt")
+    }
+
+    /// The recording's files of one stream (`"d-"` or `"r-"`), in INDEX.txt order.
+    fn stream(&self, prefix: &str) -> Vec<PathBuf> {
+        let index = std::fs::read_to_string(self.rec().join("INDEX.txt")).unwrap();
+        index.lines().filter(|l| l.starts_with(prefix)).map(|l| self.rec().join(l.trim())).collect()
+    }
+
+    fn depth(&self, i: usize) -> PathBuf {
+        self.stream("d-").remove(i)
+    }
+
+    fn calibration(&self) -> PathBuf {
+        self.rec().join("calibration.toml")
+    }
+
+    /// Replaces the first `from` in the recording's calibration.toml by `to`.
+    fn edit_calibration(&self, from: &str, to: &str) {
+        let text = std::fs::read_to_string(self.calibration()).unwrap();
+        assert!(text.contains(from), "fixture changed: calibration.toml has no {from:?}:\n{text}");
+        std::fs::write(self.calibration(), text.replacen(from, to, 1)).unwrap();
+    }
+
+    fn replay(&self) -> (bool, String) {
+        umbra(&["replay", &s(&self.rec())])
+    }
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+    }
+}
+
+/// Asserts a failed run that printed exactly one `umbra: error: ` line containing every needle.
+#[track_caller]
+fn one_line_error((ok, stderr): (bool, String), needles: &[&str]) {
+    assert!(!ok, "expected a failure, got success; stderr: {stderr:?}");
+    assert!(!stderr.contains("panicked") && !stderr.contains("RUST_BACKTRACE"), "panic: {stderr}");
+    assert!(stderr.ends_with('\n') && stderr.matches('\n').count() == 1, "expected exactly one line: {stderr:?}");
+    assert!(stderr.starts_with("umbra: error: "), "{stderr:?}");
+    for n in needles {
+        assert!(stderr.contains(n), "{n:?} missing from: {stderr}");
+    }
+}
+
+fn read(p: &Path) -> Vec<u8> {
+    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// Every file of a folder, by name, with its bytes.
+fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut v: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| {
+            let e = e.unwrap();
+            (e.file_name().to_string_lossy().into_owned(), read(&e.path()))
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+fn write_gray_png(path: &Path, w: u32, h: u32, pixels: Vec<u8>) {
+    image::GrayImage::from_raw(w, h, pixels).unwrap().save(path).unwrap();
+}
+
+// ---------------------------------------------------------------- 1. recording folder, INDEX.txt
+
+#[test]
+fn recording_folder_missing() {
+    let c = Case::new();
+    let nope = c.path("no-such-recording");
+    one_line_error(umbra(&["replay", &s(&nope)]), &[&s(&nope), "not a recording folder", "INDEX.txt"]);
+}
+
+#[test]
+fn recording_folder_without_index() {
+    let c = Case::new();
+    std::fs::remove_file(c.rec().join("INDEX.txt")).unwrap();
+    one_line_error(c.replay(), &[&s(&c.rec().join("INDEX.txt")), "missing"]);
+}
+
+#[test]
+fn index_bad_line_names_the_line() {
+    let c = Case::new();
+    let index = c.rec().join("INDEX.txt");
+    let text = std::fs::read_to_string(&index).unwrap();
+    let line = text.lines().count() + 1;
+    std::fs::write(&index, format!("{text}x-1-2.pgm\n")).unwrap();
+    one_line_error(c.replay(), &[&s(&index), &format!(": line {line}: "), "'x-1-2.pgm'", "d-<unix_time>-<device_ts>.pgm"]);
+}
+
+#[test]
+fn index_naming_a_missing_file() {
+    let c = Case::new();
+    let index = c.rec().join("INDEX.txt");
+    let text = std::fs::read_to_string(&index).unwrap();
+    // Remove the second depth frame but keep its line (the third of the file).
+    let gone = c.depth(1);
+    let name = gone.file_name().unwrap().to_str().unwrap().to_string();
+    let line = text.lines().position(|l| l == name).unwrap() + 1;
+    std::fs::remove_file(&gone).unwrap();
+    one_line_error(c.replay(), &[&s(&index), &format!(": line {line}: "), &name, "does not exist"]);
+}
+
+#[test]
+fn index_listing_no_depth_frame() {
+    let c = Case::new();
+    let index = c.rec().join("INDEX.txt");
+    let rgb_only: String = std::fs::read_to_string(&index).unwrap().lines().filter(|l| l.starts_with("r-")).map(|l| format!("{l}\n")).collect();
+    assert!(!rgb_only.is_empty());
+    std::fs::write(&index, rgb_only).unwrap();
+    one_line_error(c.replay(), &[&s(&index), "no depth frame"]);
+}
+
+#[test]
+fn index_not_utf8_names_the_byte() {
+    let c = Case::new();
+    let index = c.rec().join("INDEX.txt");
+    let mut bytes = read(&index);
+    let at = bytes.len();
+    bytes.extend_from_slice(b"\xff\xfe\n");
+    std::fs::write(&index, bytes).unwrap();
+    one_line_error(c.replay(), &[&s(&index), &format!("byte {at}"), "UTF-8"]);
+}
+
+// ---------------------------------------------------------------- 2. depth PGM
+
+#[test]
+fn depth_truncated() {
+    let c = Case::new();
+    let d = c.depth(1); // the second frame: the error comes mid-replay, after frame 0 went through
+    let bytes = read(&d);
+    let cut = bytes.len() - 1000;
+    std::fs::write(&d, &bytes[..cut]).unwrap();
+    one_line_error(c.replay(), &[&s(&d), &format!("byte {cut}"), "truncated", "614400"]);
+}
+
+#[test]
+fn depth_wrong_magic() {
+    let c = Case::new();
+    let d = c.depth(0);
+    let mut bytes = read(&d);
+    assert!(bytes.starts_with(DEPTH_HEADER), "fixture changed");
+    bytes[1] = b'6';
+    std::fs::write(&d, bytes).unwrap();
+    one_line_error(c.replay(), &[&s(&d), "byte 0", "'P6'", "'P5'"]);
+}
+
+#[test]
+fn depth_wrong_size_header() {
+    let c = Case::new();
+    let d = c.depth(0);
+    let bytes = read(&d);
+    let body = &bytes[DEPTH_HEADER.len()..];
+    std::fs::write(&d, [b"P5 320 240 65535\n".as_slice(), body].concat()).unwrap();
+    one_line_error(c.replay(), &[&s(&d), "header", "320x240", "640x480"]);
+}
+
+#[test]
+fn depth_sample_above_2047_names_the_pixel() {
+    let c = Case::new();
+    let d = c.depth(0);
+    let mut bytes = read(&d);
+    let (x, y) = (123, 45);
+    let at = DEPTH_HEADER.len() + 2 * (y * W + x);
+    bytes[at..at + 2].copy_from_slice(&0x0900u16.to_le_bytes()); // 2304
+    std::fs::write(&d, bytes).unwrap();
+    one_line_error(c.replay(), &[&s(&d), &format!("pixel ({x}, {y})"), &format!("byte {at}"), "2304", "2047"]);
+}
+
+#[test]
+fn depth_trailing_bytes() {
+    let c = Case::new();
+    let d = c.depth(0);
+    let mut bytes = read(&d);
+    let end = bytes.len();
+    bytes.extend_from_slice(b"garbage");
+    std::fs::write(&d, bytes).unwrap();
+    one_line_error(c.replay(), &[&s(&d), &format!("byte {end}"), "7 unexpected bytes"]);
+}
+
+// ---------------------------------------------------------------- 3. RGB PPM
+
+#[test]
+fn rgb_truncated_seen_by_render() {
+    let c = Case::new();
+    let r = c.stream("r-").remove(0);
+    let bytes = read(&r);
+    let cut = bytes.len() - 1000;
+    std::fs::write(&r, &bytes[..cut]).unwrap();
+    let out = c.path("x.png");
+    one_line_error(umbra(&["render", &s(&c.rec()), "--frame", "0", "--out", &s(&out)]), &[&s(&r), &format!("byte {cut}"), "truncated", "921600"]);
+    assert!(!out.exists(), "a failed render must not leave an output file");
+}
+
+// ---------------------------------------------------------------- 4. calibration.toml, device.json
+
+#[test]
+fn calibration_syntax_error_gives_line_and_column() {
+    let c = Case::new();
+    c.edit_calibration("fx = 582.62", "fx = = 582.62"); // line 2 of the file
+    one_line_error(c.replay(), &[&s(&c.calibration()), "line 2, column "]);
+}
+
+#[test]
+fn calibration_unknown_key() {
+    let c = Case::new();
+    c.edit_calibration("baseline_m = 0.075", "baseline_m = 0.075\nfocal_length = 3");
+    let line = std::fs::read_to_string(c.calibration()).unwrap().lines().position(|l| l.starts_with("focal_length")).unwrap() + 1;
+    one_line_error(c.replay(), &[&s(&c.calibration()), &format!("line {line}, column "), "focal_length"]);
+}
+
+#[test]
+fn calibration_nan_focal_length() {
+    let c = Case::new();
+    c.edit_calibration("fx = 582.62", "fx = nan");
+    one_line_error(c.replay(), &[&s(&c.calibration()), "key depth.fx", "NaN"]);
+}
+
+#[test]
+fn calibration_absurd_baseline() {
+    let c = Case::new();
+    c.edit_calibration("baseline_m = 0.075", "baseline_m = 7.5");
+    one_line_error(c.replay(), &[&s(&c.calibration()), "key raw.baseline_m", "7.5"]);
+}
+
+#[test]
+fn calibration_non_rotation_matrix() {
+    let identity = "rotation = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]";
+    for bad in [
+        "rotation = [1.0, 0.5, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]",  // not orthogonal
+        "rotation = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, -1.0]", // a reflection
+    ] {
+        let c = Case::new();
+        c.edit_calibration(identity, bad);
+        one_line_error(c.replay(), &[&s(&c.calibration()), "key depth_to_rgb.rotation", "not a proper rotation"]);
+    }
+}
+
+const DEVICE_JSON_OK: &str = r#"{"reg_info":{"zero_plane_info":{"dcmos_emitter_distance":7.5,"dcmos_rcmos_distance":2.4,"reference_distance":120,"reference_pixel_size":0.1042}}}"#;
+
+#[test]
+fn device_json_used_only_without_calibration_toml() {
+    // With calibration.toml present, a broken device.json is never read.
+    let c = Case::new();
+    std::fs::write(c.rec().join("device.json"), "{ not json").unwrap();
+    let (ok, e) = c.replay();
+    assert!(ok, "calibration.toml takes precedence over device.json: {e}");
+    // Without it, a good device.json is accepted.
+    std::fs::remove_file(c.calibration()).unwrap();
+    std::fs::write(c.rec().join("device.json"), DEVICE_JSON_OK).unwrap();
+    let (ok, e) = c.replay();
+    assert!(ok, "a valid device.json must load: {e}");
+}
+
+#[test]
+fn device_json_invalid() {
+    let c = Case::new();
+    std::fs::remove_file(c.calibration()).unwrap();
+    let dj = c.rec().join("device.json");
+    std::fs::write(&dj, "{\"reg_info\": {\"zero_plane_info\": [1, 2,\n").unwrap();
+    one_line_error(c.replay(), &[&s(&dj), "line "]);
+}
+
+#[test]
+fn device_json_negative_emitter_distance() {
+    let c = Case::new();
+    std::fs::remove_file(c.calibration()).unwrap();
+    let dj = c.rec().join("device.json");
+    std::fs::write(&dj, DEVICE_JSON_OK.replace("\"dcmos_emitter_distance\":7.5", "\"dcmos_emitter_distance\":-7.5")).unwrap();
+    one_line_error(c.replay(), &[&s(&dj), "reg_info.zero_plane_info.dcmos_emitter_distance", "-7.5"]);
+}
+
+#[test]
+fn config_unknown_key() {
+    let c = Case::new();
+    let cfg = c.path("umbra.toml");
+    std::fs::write(&cfg, "[classifier]\nmin_stp_px = 1.0\n").unwrap();
+    one_line_error(umbra(&["replay", &s(&c.rec()), "--config", &s(&cfg)]), &[&s(&cfg), "line 2, column 1", "min_stp_px"]);
+}
+
+// ---------------------------------------------------------------- 5. frame request
+
+#[test]
+fn render_frame_out_of_range() {
+    let c = Case::new();
+    let out = c.path("x.png");
+    one_line_error(
+        umbra(&["render", &s(&c.rec()), "--frame", "99", "--out", &s(&out)]),
+        &["frame 99", "out of range", &s(&c.rec()), "2 depth frames", "--frame 0 to 1"],
+    );
+    assert!(!out.exists());
+}
+
+// ---------------------------------------------------------------- 6. ground truth
+
+#[test]
+fn eval_ground_truth_wrong_size() {
+    let c = Case::new();
+    let (ok, e) = umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]);
+    assert!(ok, "eval on the pristine copy must pass: {e}");
+    let bad = c.gt().join("000001.rgb.png");
+    write_gray_png(&bad, 320, 240, vec![0; 320 * 240]);
+    one_line_error(umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]), &[&s(&bad), "320x240", "640x480"]);
+}
+
+#[test]
+fn eval_ground_truth_value_not_a_label() {
+    let c = Case::new();
+    let bad = c.gt().join("000000.depth.png");
+    let mut px = image::open(&bad).unwrap().into_luma8().into_raw();
+    assert_eq!(px.len(), W * H);
+    let (x, y) = (10, 20);
+    px[y * W + x] = 7;
+    write_gray_png(&bad, W as u32, H as u32, px);
+    one_line_error(umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]), &[&s(&bad), &format!("pixel ({x}, {y})"), "value 7", "0-4"]);
+}
+
+// ---------------------------------------------------------------- 7. nothing already written is lost
+
+#[test]
+fn failed_export_keeps_earlier_labels() {
+    let c = Case::new();
+    let out = c.path("labels");
+    let (ok, e) = umbra(&["replay", &s(&c.rec()), "--export-labels", &s(&out)]);
+    assert!(ok, "{e}");
+    let before = snapshot(&out);
+    let names: Vec<&str> = before.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["000000.depth.png", "000000.rgb.png", "000001.depth.png", "000001.rgb.png"]);
+
+    // Frame 1 of a second recording is cut short; the export runs into the same folder.
+    // Frames are written in order and atomically (temp file + rename), so frame 0 is rewritten
+    // whole (with the same labels: the recordings agree on it), frame 1 is never touched and no
+    // `.part` file is left behind.
+    let bad = c.path("bad");
+    copy_dir(&c.rec(), &bad);
+    let d = bad.join(c.depth(1).file_name().unwrap());
+    std::fs::write(&d, &read(&d)[..300_000]).unwrap();
+    one_line_error(umbra(&["replay", &s(&bad), "--export-labels", &s(&out)]), &[&s(&d), "truncated"]);
+
+    let after = snapshot(&out);
+    let names_after: Vec<&str> = after.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names_after, names, "the failed run added or removed files");
+    for ((name, a), (_, b)) in before.iter().zip(&after) {
+        assert!(a == b, "{name} changed in the failed run");
+        let img = image::load_from_memory(b).unwrap_or_else(|e| panic!("{name} is not a whole PNG: {e}"));
+        assert_eq!((img.width(), img.height()), (W as u32, H as u32), "{name}");
+    }
+}
+
+#[test]
+fn failed_render_keeps_existing_output() {
+    let c = Case::new();
+    let out = c.path("frame.png");
+    let (ok, e) = umbra(&["render", &s(&c.rec()), "--frame", "0", "--out", &s(&out)]);
+    assert!(ok, "{e}");
+    let before = read(&out);
+    let d = c.depth(0);
+    std::fs::write(&d, &read(&d)[..DEPTH_HEADER.len() + 10]).unwrap();
+    one_line_error(umbra(&["render", &s(&c.rec()), "--frame", "0", "--out", &s(&out)]), &[&s(&d), "truncated"]);
+    assert!(read(&out) == before, "the earlier render was damaged");
+}
+
+// ---------------------------------------------------------------- 8. unwritable output
+
+#[test]
+fn export_labels_into_a_regular_file() {
+    let c = Case::new();
+    let file = c.path("not-a-folder");
+    std::fs::write(&file, "keep me").unwrap();
+    one_line_error(umbra(&["replay", &s(&c.rec()), "--export-labels", &s(&file)]), &[&s(&file), "not a folder"]);
+    assert_eq!(read(&file), b"keep me");
+    let below = file.join("labels");
+    one_line_error(umbra(&["replay", &s(&c.rec()), "--export-labels", &s(&below)]), &[&s(&below)]);
+    assert_eq!(read(&file), b"keep me");
+}
+
+#[test]
+fn render_into_a_missing_folder() {
+    let c = Case::new();
+    let out = c.path("no-such-dir").join("x.png");
+    one_line_error(umbra(&["render", &s(&c.rec()), "--frame", "0", "--out", &s(&out)]), &[&s(&out)]);
+    assert!(!c.path("no-such-dir").exists());
+}
+
+#[test]
+fn render_onto_a_folder() {
+    let c = Case::new();
+    let out = c.path("a-folder");
+    std::fs::create_dir(&out).unwrap();
+    std::fs::write(out.join("inside"), "keep me").unwrap();
+    one_line_error(umbra(&["render", &s(&c.rec()), "--frame", "0", "--out", &s(&out)]), &[&s(&out)]);
+    assert_eq!(read(&out.join("inside")), b"keep me");
+    let leftovers: Vec<_> = std::fs::read_dir(c.tmp.path()).unwrap().map(|e| e.unwrap().file_name()).filter(|n| n.to_string_lossy().ends_with(".part")).collect();
+    assert!(leftovers.is_empty(), "temporary files left behind: {leftovers:?}");
+}
