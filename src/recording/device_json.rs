@@ -38,23 +38,36 @@ pub fn load(path: &Path) -> Result<Calibration> {
 
 /// Parses device.json text; `path` is used in error messages only.
 pub fn from_str(text: &str, path: &Path) -> Result<Calibration> {
-    let d: DeviceJson = serde_json::from_str(text)
-        .map_err(|e| Error::input(path, format!("line {}, column {}", e.line(), e.column()), format!("{e}")))?;
+    let d: DeviceJson = serde_json::from_str(text).map_err(|e| {
+        // serde_json's message ends in " at line L column C": the place is already in front.
+        let msg = e.to_string();
+        let msg = msg.rsplit_once(" at line ").map_or(msg.as_str(), |(m, _)| m).to_string();
+        Error::input(path, format!("line {}, column {}", e.line(), e.column()), msg)
+    })?;
     let z = d.reg_info.zero_plane_info;
-    let key = |k: &str| format!("reg_info.zero_plane_info.{k}");
-    let positive = |v: f64, k: &str| {
-        if v.is_finite() && v > 0.0 {
+    let key = |k: &str| format!("key reg_info.zero_plane_info.{k}");
+    // Each value in a range a Kinect v1 can have, so a wrong one is reported under its own key
+    // rather than as a derived calibration value the file does not contain.
+    let within = |v: f64, k: &str, lo: f64, hi: f64, unit: &str| {
+        if v.is_finite() && v > lo && v < hi {
             Ok(v)
         } else {
-            Err(Error::input(path, key(k), format!("value {v} is not a positive number")))
+            Err(Error::input(path, key(k), format!("value {v} is not between {lo} and {hi} {unit}")))
         }
     };
-    let zpd = positive(z.reference_distance, "reference_distance")?;
-    let zpps = positive(z.reference_pixel_size, "reference_pixel_size")?;
-    let emitter_cm = positive(z.dcmos_emitter_distance, "dcmos_emitter_distance")?;
-    let rgb_cm = positive(z.dcmos_rcmos_distance, "dcmos_rcmos_distance")?;
+    let zpd = within(z.reference_distance, "reference_distance", 0.0, 10_000.0, "mm")?;
+    let zpps = within(z.reference_pixel_size, "reference_pixel_size", 0.0, 10.0, "mm")?;
+    let emitter_cm = within(z.dcmos_emitter_distance, "dcmos_emitter_distance", 1.0, 50.0, "cm")?;
+    let rgb_cm = within(z.dcmos_rcmos_distance, "dcmos_rcmos_distance", 0.0, 50.0, "cm")?;
     let mut c = Calibration::nyu_default();
     let f = zpd / (2.0 * zpps);
+    if !(50.0..5000.0).contains(&f) {
+        return Err(Error::input(
+            path,
+            key("reference_distance"),
+            format!("{zpd} mm over twice reference_pixel_size {zpps} mm gives a focal length of {f:.1} px, expected 50 to 5000"),
+        ));
+    }
     c.depth.fx = f;
     c.depth.fy = f;
     c.depth.cx = 319.5;
