@@ -338,7 +338,8 @@ pub fn read_category(path: &Path) -> Result<Option<Category>> {
 
 /// Parses the `category` key of `meta.toml` text; `path` is only used in error messages.
 pub fn parse_category(text: &str, path: &Path) -> Result<Option<Category>> {
-    let table: toml::Table = toml::from_str(text).map_err(|e| Error::input(path, "", format!("not valid TOML: {}", e.message())))?;
+    // A syntax error names its line and column (SPEC §5), like calibration.toml's.
+    let table: toml::Table = toml::from_str(text).map_err(|e| crate::calib::toml_error(path, text, &e))?;
     match table.get("category") {
         None => Ok(None),
         Some(toml::Value::String(s)) if s == "simple" => Ok(Some(Category::Simple)),

@@ -88,8 +88,10 @@ impl Recording {
         };
         let entries = parse_index(&index_path, &text)?;
         for e in &entries {
-            if !dir.join(&e.name).is_file() {
-                return Err(Error::input(&index_path, format!("line {}", e.line), format!("names {} which does not exist in {}", e.name, dir.display())));
+            let file = dir.join(&e.name);
+            if !file.is_file() {
+                let why = if file.exists() { "is not a regular file" } else { "does not exist" };
+                return Err(Error::input(&index_path, format!("line {}", e.line), format!("names {} which {why} in {}", e.name, dir.display())));
             }
         }
         let frames = pair_frames(&entries);
