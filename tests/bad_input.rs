@@ -4,12 +4,11 @@
 //! `umbra: error: <file>: <place>: <what was expected>`, no panic or backtrace, and nothing
 //! already written may be lost or damaged.
 //!
-//! A valid two-frame recording and its ground truth are simulated once (`umbra synth`) under
-//! cargo's target tmp folder; each case copies it and breaks one thing.
+//! Each case simulates a valid two-frame recording and its ground truth (`umbra synth`) in its
+//! own temporary folder and breaks one thing.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::OnceLock;
 
 const W: usize = 640;
 const H: usize = 480;
@@ -29,20 +28,8 @@ fn s(p: &Path) -> String {
     p.display().to_string()
 }
 
-/// The pristine recording (`good/`) and ground truth (`gt/`), made once per test process.
-fn pristine() -> &'static Path {
-    static DIR: OnceLock<tempfile::TempDir> = OnceLock::new();
-    DIR.get_or_init(|| {
-        let dir = tempfile::Builder::new().prefix("bad_input-").tempdir_in(env!("CARGO_TARGET_TMPDIR")).unwrap();
-        let (rec, gt) = (dir.path().join("good"), dir.path().join("gt"));
-        let (ok, err) = umbra(&["synth", &s(&rec), "--gt", &s(&gt), "--scene", "box", "--frames", "2", "--seed", "1"]);
-        assert!(ok, "umbra synth failed: {err}");
-        dir
-    })
-    .path()
-}
-
-/// One case's scratch folder with its own copy of the recording (`rec/`) and ground truth (`gt/`).
+/// One case's scratch folder with its own valid recording (`rec/`) and ground truth (`gt/`),
+/// simulated afresh (about 0.2 s) so that every case is independent and leaves nothing behind.
 struct Case {
     tmp: tempfile::TempDir,
 }
@@ -50,8 +37,9 @@ struct Case {
 impl Case {
     fn new() -> Self {
         let tmp = tempfile::tempdir().unwrap();
-        copy_dir(&pristine().join("good"), &tmp.path().join("rec"));
-        copy_dir(&pristine().join("gt"), &tmp.path().join("gt"));
+        let (rec, gt) = (tmp.path().join("rec"), tmp.path().join("gt"));
+        let (ok, err) = umbra(&["synth", &s(&rec), "--gt", &s(&gt), "--scene", "box", "--frames", "2", "--seed", "1"]);
+        assert!(ok, "umbra synth failed: {err}");
         Case { tmp }
     }
 
@@ -174,6 +162,17 @@ fn index_naming_a_missing_file() {
 }
 
 #[test]
+fn index_naming_a_folder() {
+    let c = Case::new();
+    let index = c.rec().join("INDEX.txt");
+    let d = c.depth(0);
+    let name = d.file_name().unwrap().to_str().unwrap().to_string();
+    std::fs::remove_file(&d).unwrap();
+    std::fs::create_dir(&d).unwrap();
+    one_line_error(c.replay(), &[&s(&index), ": line 1: ", &name, "is not a regular file"]);
+}
+
+#[test]
 fn index_listing_no_depth_frame() {
     let c = Case::new();
     let index = c.rec().join("INDEX.txt");
@@ -237,6 +236,22 @@ fn depth_sample_above_2047_names_the_pixel() {
     bytes[at..at + 2].copy_from_slice(&0x0900u16.to_le_bytes()); // 2304
     std::fs::write(&d, bytes).unwrap();
     one_line_error(c.replay(), &[&s(&d), &format!("pixel ({x}, {y})"), &format!("byte {at}"), "2304", "2047"]);
+}
+
+#[test]
+fn depth_empty_or_bad_header() {
+    for (bytes, needles) in [
+        (&b""[..], &["byte 0", "'P5'"][..]),
+        (b"P5 640 480 255\n", &["header", "maxval 255", "65535"]),
+        (b"P5 640 480 65535", &["byte 16", "whitespace"]),
+    ] {
+        let c = Case::new();
+        let d = c.depth(0);
+        std::fs::write(&d, bytes).unwrap();
+        let mut all = vec![s(&d)];
+        all.extend(needles.iter().map(|n| n.to_string()));
+        one_line_error(c.replay(), &all.iter().map(String::as_str).collect::<Vec<_>>());
+    }
 }
 
 #[test]
@@ -330,7 +345,9 @@ fn device_json_invalid() {
     std::fs::remove_file(c.calibration()).unwrap();
     let dj = c.rec().join("device.json");
     std::fs::write(&dj, "{\"reg_info\": {\"zero_plane_info\": [1, 2,\n").unwrap();
-    one_line_error(c.replay(), &[&s(&dj), "line "]);
+    let (ok, e) = c.replay();
+    assert!(!e.contains(" at line "), "the place is given once, in front: {e}");
+    one_line_error((ok, e), &[&s(&dj), ": line 2, column "]);
 }
 
 #[test]
@@ -340,6 +357,16 @@ fn device_json_negative_emitter_distance() {
     let dj = c.rec().join("device.json");
     std::fs::write(&dj, DEVICE_JSON_OK.replace("\"dcmos_emitter_distance\":7.5", "\"dcmos_emitter_distance\":-7.5")).unwrap();
     one_line_error(c.replay(), &[&s(&dj), "reg_info.zero_plane_info.dcmos_emitter_distance", "-7.5"]);
+}
+
+#[test]
+fn device_json_absurd_emitter_distance_names_its_key() {
+    // 750 cm is positive but no Kinect: reported under the file's key, not a derived one.
+    let c = Case::new();
+    std::fs::remove_file(c.calibration()).unwrap();
+    let dj = c.rec().join("device.json");
+    std::fs::write(&dj, DEVICE_JSON_OK.replace("\"dcmos_emitter_distance\":7.5", "\"dcmos_emitter_distance\":750")).unwrap();
+    one_line_error(c.replay(), &[&s(&dj), "key reg_info.zero_plane_info.dcmos_emitter_distance", "750", "cm"]);
 }
 
 #[test]
@@ -373,6 +400,14 @@ fn eval_ground_truth_wrong_size() {
     let bad = c.gt().join("000001.rgb.png");
     write_gray_png(&bad, 320, 240, vec![0; 320 * 240]);
     one_line_error(umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]), &[&s(&bad), "320x240", "640x480"]);
+}
+
+#[test]
+fn eval_ground_truth_meta_syntax_error() {
+    let c = Case::new();
+    let meta = c.gt().join("meta.toml");
+    std::fs::write(&meta, "category = = \"simple\"\n").unwrap();
+    one_line_error(umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]), &[&s(&meta), "line 1, column "]);
 }
 
 #[test]
