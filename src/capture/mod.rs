@@ -1,6 +1,7 @@
 //! Frame sources: where raw depth (and RGB) comes from. [`replay`] reads fakenect recordings;
 //! the live Kinect source plugs in behind the same [`Source`] trait.
 
+pub mod freenect;
 pub mod replay;
 
 use crate::error::Result;

@@ -30,6 +30,9 @@ pub struct Frame {
     pub rgb: Vec<u8>,
     /// Whether `rgb` holds an image paired with this depth frame.
     pub has_rgb: bool,
+    /// Depth frames the source dropped just before this one (live capture that fell behind).
+    /// The pipeline skips that many `seq` numbers, so `seq` keeps counting device frames.
+    pub dropped_before: u64,
     /// Classifier output.
     pub labels: Classified,
 }
@@ -43,6 +46,7 @@ impl Default for Frame {
             depth: vec![0; PIXELS],
             rgb: vec![0; PIXELS * 3],
             has_rgb: false,
+            dropped_before: 0,
             labels: Classified::default(),
         }
     }
@@ -53,6 +57,8 @@ impl Default for Frame {
 pub struct Stats {
     /// Frames written to every sink.
     pub frames: u64,
+    /// Frames the source dropped (summed `Frame::dropped_before`).
+    pub dropped: u64,
     /// Pixel counts per class, IR view.
     pub ir: [u64; CLASSES],
     /// Pixel counts per class, RGB view.
@@ -127,9 +133,11 @@ fn read_stage(source: &mut dyn Source, free: Receiver<Box<Frame>>, out: Sender<M
     let _span = info_span!("read").entered();
     let mut seq = 0;
     while let Ok(mut frame) = free.recv() {
-        frame.seq = seq;
+        frame.dropped_before = 0;
         match source.next_frame(&mut frame) {
             Ok(true) => {
+                seq += frame.dropped_before;
+                frame.seq = seq;
                 seq += 1;
                 if out.send(Msg::Frame(frame)).is_err() {
                     return;
@@ -188,6 +196,7 @@ fn write_stage(
             *total += n;
         }
         stats.frames += 1;
+        stats.dropped += frame.dropped_before;
         on_frame(&frame);
         debug!(seq = frame.seq, "frame written");
         let _ = free.send(frame);
