@@ -22,12 +22,18 @@ struct RegInfo {
     zero_plane_info: ZeroPlane,
 }
 
-#[derive(Deserialize)]
-struct ZeroPlane {
-    dcmos_emitter_distance: f64,
-    dcmos_rcmos_distance: f64,
-    reference_distance: f64,
-    reference_pixel_size: f64,
+/// The zero-plane block of libfreenect's registration (`freenect_zero_plane_info`): what both
+/// `device.json` and a live Kinect's `freenect_copy_registration` provide.
+#[derive(Clone, Copy, Debug, Deserialize)]
+pub struct ZeroPlane {
+    /// IR camera to IR projector, cm.
+    pub dcmos_emitter_distance: f64,
+    /// IR camera to RGB camera, cm.
+    pub dcmos_rcmos_distance: f64,
+    /// Zero-plane distance, mm.
+    pub reference_distance: f64,
+    /// Size of a (1280-wide sensor) pixel on the zero plane, mm.
+    pub reference_pixel_size: f64,
 }
 
 /// Reads `device.json` and derives a calibration from it (NYU defaults for what it lacks).
@@ -44,7 +50,12 @@ pub fn from_str(text: &str, path: &Path) -> Result<Calibration> {
         let msg = msg.rsplit_once(" at line ").map_or(msg.as_str(), |(m, _)| m).to_string();
         Error::input(path, format!("line {}, column {}", e.line(), e.column()), msg)
     })?;
-    let z = d.reg_info.zero_plane_info;
+    from_zero_plane(&d.reg_info.zero_plane_info, path)
+}
+
+/// Derives a calibration from the zero-plane numbers (NYU defaults for the rest); `path` names
+/// where they came from in error messages (a file, or a device).
+pub fn from_zero_plane(z: &ZeroPlane, path: &Path) -> Result<Calibration> {
     let key = |k: &str| format!("key reg_info.zero_plane_info.{k}");
     // Each value in a range a Kinect v1 can have, so a wrong one is reported under its own key
     // rather than as a derived calibration value the file does not contain.
