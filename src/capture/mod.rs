@@ -1,7 +1,10 @@
 //! Frame sources: where raw depth (and RGB) comes from. [`replay`] reads fakenect recordings;
-//! the live Kinect source plugs in behind the same [`Source`] trait.
+//! [`kinect`] captures from a live Kinect (or libfreenect's fakenect) through the [`freenect`]
+//! binding, behind the same [`Source`] trait.
 
 pub mod freenect;
+pub mod kinect;
+pub mod pace;
 pub mod replay;
 
 use crate::error::Result;

@@ -3,6 +3,7 @@
 pub mod eval;
 pub mod render;
 pub mod replay;
+pub mod run;
 pub mod synth;
 pub mod tail;
 
@@ -31,6 +32,8 @@ pub enum Command {
     Synth(synth::Args),
     /// Score the classifier on recordings against ground-truth labels.
     Eval(eval::Args),
+    /// Capture from a Kinect (or a recording at recorded speed), classify and write until stopped.
+    Run(run::Args),
     /// Print (and export) the frames of MCAP segments; --follow reads them as they are written.
     Tail(tail::Args),
 }
@@ -52,5 +55,6 @@ pub fn run(cli: Cli) -> crate::Result<()> {
         Command::Synth(a) => synth::run(a),
         Command::Eval(a) => eval::run(a),
         Command::Tail(a) => tail::run(a),
+        Command::Run(a) => run::run(a),
     }
 }

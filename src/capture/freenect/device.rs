@@ -19,6 +19,24 @@ pub enum Selector {
     Serial(String),
 }
 
+impl std::str::FromStr for Selector {
+    type Err = Error;
+
+    /// `""` → the first device, a number of up to 3 digits → that index, anything else → a
+    /// camera serial (serials are 16 characters, so the two never collide).
+    fn from_str(s: &str) -> Result<Self> {
+        if s.is_empty() {
+            Ok(Selector::Index(0))
+        } else if s.len() <= 3 && s.bytes().all(|b| b.is_ascii_digit()) {
+            Ok(Selector::Index(s.parse().map_err(|_| Error::Usage(format!("Kinect index {s:?} is not a number")))?))
+        } else if s.bytes().all(|b| b.is_ascii_alphanumeric()) {
+            Ok(Selector::Serial(s.to_string()))
+        } else {
+            Err(Error::Usage(format!("Kinect {s:?}: expected a device index (0, 1, ...) or a camera serial (letters and digits)")))
+        }
+    }
+}
+
 impl std::fmt::Display for Selector {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {

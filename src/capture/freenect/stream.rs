@@ -108,7 +108,8 @@ pub struct Stream {
     pub info: DeviceInfo,
     depth_dropped: Arc<AtomicU64>,
     video_dropped: Arc<AtomicU64>,
-    stop: Arc<AtomicBool>,
+    /// Set on drop; separate from the caller's flag, which means "a signal asked to stop".
+    halt: Arc<AtomicBool>,
     failure: Arc<Mutex<Option<Error>>>,
     thread: Option<JoinHandle<()>>,
 }
@@ -135,14 +136,15 @@ impl Stream {
         let (video, video_rx, video_free, video_dropped) = lane::<u8>(pool, PIXELS * 3);
         let shared = Arc::new(Shared { depth, video });
         let failure = Arc::new(Mutex::new(None));
+        let halt = Arc::new(AtomicBool::new(false));
         let (ready_tx, ready_rx) = bounded(1);
         let thread = {
-            let (stop, failure) = (stop.clone(), failure.clone());
+            let (halt, failure) = (halt.clone(), failure.clone());
             std::thread::Builder::new()
                 .name("freenect".into())
                 .spawn(move || {
                     let mut started = false;
-                    if let Err(e) = capture(lib, &which, shared, &stop, &ready_tx, &mut started) {
+                    if let Err(e) = capture(lib, &which, shared, [&stop, &halt], &ready_tx, &mut started) {
                         // Before streaming the error goes to `start`, afterwards to the consumer.
                         if started {
                             *failure.lock().unwrap_or_else(|p| p.into_inner()) = Some(e);
@@ -164,7 +166,7 @@ impl Stream {
                 return Err(Error::Usage("the capture thread ended before the device was ready".into()));
             }
         };
-        Ok(Stream { depth: depth_rx, depth_free, video: video_rx, video_free, info, depth_dropped, video_dropped, stop, failure, thread: Some(thread) })
+        Ok(Stream { depth: depth_rx, depth_free, video: video_rx, video_free, info, depth_dropped, video_dropped, halt, failure, thread: Some(thread) })
     }
 
     /// The device error that ended the capture thread, if any (once).
@@ -176,11 +178,16 @@ impl Stream {
     pub fn dropped(&self) -> (u64, u64) {
         (self.depth_dropped.load(Ordering::Relaxed), self.video_dropped.load(Ordering::Relaxed))
     }
+
+    /// The depth and RGB drop counters themselves, readable after the stream is gone.
+    pub fn drop_counters(&self) -> (Arc<AtomicU64>, Arc<AtomicU64>) {
+        (self.depth_dropped.clone(), self.video_dropped.clone())
+    }
 }
 
 impl Drop for Stream {
     fn drop(&mut self) {
-        self.stop.store(true, Ordering::SeqCst);
+        self.halt.store(true, Ordering::SeqCst);
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
@@ -189,7 +196,7 @@ impl Drop for Stream {
 
 /// The capture thread's body: every libfreenect call happens here, on one thread. Sets `started`
 /// once the device streams and `ready` has been told.
-fn capture(lib: &'static Library, which: &Selector, shared: Arc<Shared>, stop: &AtomicBool, ready: &Sender<Result<DeviceInfo>>, started: &mut bool) -> Result<()> {
+fn capture(lib: &'static Library, which: &Selector, shared: Arc<Shared>, stop: [&AtomicBool; 2], ready: &Sender<Result<DeviceInfo>>, started: &mut bool) -> Result<()> {
     let _span = info_span!("capture", device = %which).entered();
     let ctx = Context::init(lib)?;
     let serials = ctx.serials();
@@ -204,7 +211,7 @@ fn capture(lib: &'static Library, which: &Selector, shared: Arc<Shared>, stop: &
     *started = true;
     let _ = ready.send(Ok(info));
     let result = loop {
-        if stop.load(Ordering::SeqCst) {
+        if stop.iter().any(|s| s.load(Ordering::SeqCst)) {
             info!("stop requested");
             break Ok(());
         }

@@ -1,0 +1,184 @@
+//! The live Kinect v1 [`Source`]: depth frames from libfreenect, each paired with the nearest RGB
+//! frame by device timestamp, with the device's factory calibration.
+//!
+//! Under libfreenect's `fakenect` replay library the "device" is the recording in
+//! `FAKENECT_PATH`, and its calibration is that recording's (as `umbra replay` reads it), so a
+//! fakenect run labels exactly as a replay does.
+
+use std::collections::VecDeque;
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+
+use tracing::{info, warn};
+
+use super::freenect::{library, Captured, Selector, Stream};
+use super::Source;
+use crate::calib::Calibration;
+use crate::error::{Error, Result};
+use crate::pipeline::Frame;
+use crate::recording::{device_json, Recording};
+
+/// Buffers per stream between the USB callbacks and the pipeline: about a quarter second at 30 fps.
+const POOL: usize = 8;
+/// RGB frames kept to pair with depth; the streams run at the same rate, so two suffice.
+const RECENT_RGB: usize = 2;
+/// An RGB frame received further than this from a depth frame (host time) is not its pair.
+const MAX_RGB_GAP_S: f64 = 0.1;
+
+/// A live (or fakenect) Kinect v1.
+pub struct KinectSource {
+    stream: Stream,
+    recent: VecDeque<Captured<u8>>,
+    calibration: Calibration,
+    calibration_origin: String,
+    video_drops_reported: u64,
+}
+
+impl KinectSource {
+    /// Opens `which` and starts streaming; capture stops when `stop` is set (or the source is
+    /// dropped). Fails with one line when libfreenect is missing or the device cannot be opened.
+    pub fn open(which: Selector, stop: Arc<AtomicBool>) -> Result<Self> {
+        let lib = library::load()?;
+        // Under fakenect, check the recording before libfreenect sees it: fakenect exit()s on a
+        // missing FAKENECT_PATH or file.
+        let recording = if lib.fakenect {
+            let path = std::env::var_os("FAKENECT_PATH").ok_or_else(|| {
+                Error::Usage(format!("{} is libfreenect's fakenect replay library and FAKENECT_PATH is not set: set it to a recording folder", lib.name))
+            })?;
+            Some(Recording::open(Path::new(&path))?)
+        } else {
+            None
+        };
+        let stream = Stream::start(which.clone(), POOL, stop)?;
+        let (calibration, calibration_origin) = match (&recording, stream.info.zero_plane) {
+            (Some(rec), _) => (*rec.calibration(), format!("fakenect recording {} ({:?})", rec.dir().display(), rec.calibration_source())),
+            (None, Some(z)) => {
+                let zp = device_json::ZeroPlane {
+                    dcmos_emitter_distance: z.dcmos_emitter_dist.into(),
+                    dcmos_rcmos_distance: z.dcmos_rcmos_dist.into(),
+                    reference_distance: z.reference_distance.into(),
+                    reference_pixel_size: z.reference_pixel_size.into(),
+                };
+                let origin = format!("{which} factory calibration");
+                match device_json::from_zero_plane(&zp, Path::new(&origin)) {
+                    Ok(c) => (c, origin),
+                    Err(e) => {
+                        warn!("{e}; using NYU Kinect v1 defaults");
+                        (Calibration::nyu_default(), "NYU Kinect v1 defaults".to_string())
+                    }
+                }
+            }
+            (None, None) => (Calibration::nyu_default(), "NYU Kinect v1 defaults (no registration data)".to_string()),
+        };
+        info!(device = %which, serials = ?stream.info.serials, calibration = %calibration_origin, "Kinect open");
+        Ok(KinectSource { stream, recent: VecDeque::with_capacity(RECENT_RGB + 1), calibration, calibration_origin, video_drops_reported: 0 })
+    }
+
+    /// The device's calibration and where it came from.
+    pub fn calibration(&self) -> (&Calibration, &str) {
+        (&self.calibration, &self.calibration_origin)
+    }
+
+    /// Depth and RGB frames dropped so far because the pipeline fell behind.
+    pub fn dropped(&self) -> (u64, u64) {
+        self.stream.dropped()
+    }
+
+    /// Depth and RGB drop counters that outlive the source (for the end-of-run summary).
+    pub fn drop_counters(&self) -> (Arc<std::sync::atomic::AtomicU64>, Arc<std::sync::atomic::AtomicU64>) {
+        self.stream.drop_counters()
+    }
+
+    /// Moves every RGB frame received so far into `recent`, recycling the oldest.
+    fn take_rgb(&mut self) {
+        while let Ok(rgb) = self.stream.video.try_recv() {
+            self.recent.push_back(rgb);
+            if self.recent.len() > RECENT_RGB {
+                if let Some(old) = self.recent.pop_front() {
+                    let _ = self.stream.video_free.try_send(old.data);
+                }
+            }
+        }
+    }
+}
+
+/// Distance between two 32-bit device timestamps, across a wrap.
+pub fn ts_distance(a: u32, b: u32) -> u32 {
+    (a.wrapping_sub(b) as i32).unsigned_abs()
+}
+
+/// Index of the frame in `recent` nearest to `depth` by device timestamp, if any is close in host
+/// time. Only frames already received count: waiting for a later one would delay every frame.
+fn nearest_rgb(recent: &VecDeque<Captured<u8>>, depth_ts: u32, depth_time: f64) -> Option<usize> {
+    recent
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| (r.unix_time - depth_time).abs() <= MAX_RGB_GAP_S)
+        .min_by_key(|(_, r)| ts_distance(r.ts, depth_ts))
+        .map(|(i, _)| i)
+}
+
+impl Source for KinectSource {
+    fn next_frame(&mut self, frame: &mut Frame) -> Result<bool> {
+        let Ok(mut depth) = self.stream.depth.recv() else {
+            // The capture thread ended: a device error, or the end of a fakenect recording.
+            return self.stream.take_failure().map_or(Ok(false), Err);
+        };
+        frame.device_ts = depth.ts;
+        frame.unix_time = depth.unix_time;
+        frame.dropped_before = depth.dropped_before;
+        if frame.depth.len() == depth.data.len() {
+            // Swap buffers instead of copying: the pool gets the frame's old one back.
+            std::mem::swap(&mut frame.depth, &mut depth.data);
+        } else {
+            frame.depth.clear();
+            frame.depth.extend_from_slice(&depth.data);
+        }
+        let _ = self.stream.depth_free.try_send(depth.data);
+        if depth.dropped_before > 0 {
+            warn!(dropped = depth.dropped_before, "pipeline fell behind: depth frames dropped");
+        }
+        self.take_rgb();
+        frame.has_rgb = match nearest_rgb(&self.recent, frame.device_ts, frame.unix_time) {
+            Some(i) => {
+                let rgb = &self.recent[i].data;
+                frame.rgb.resize(rgb.len(), 0);
+                frame.rgb.copy_from_slice(rgb);
+                true
+            }
+            None => false,
+        };
+        let (_, video_drops) = self.stream.dropped();
+        if video_drops > self.video_drops_reported {
+            warn!(dropped = video_drops - self.video_drops_reported, "pipeline fell behind: RGB frames dropped");
+            self.video_drops_reported = video_drops;
+        }
+        Ok(true)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rgb(ts: u32, t: f64) -> Captured<u8> {
+        Captured { ts, unix_time: t, dropped_before: 0, data: Vec::new() }
+    }
+
+    #[test]
+    fn distance_wraps() {
+        assert_eq!(ts_distance(5, u32::MAX - 4), 10);
+        assert_eq!(ts_distance(u32::MAX - 4, 5), 10);
+        assert_eq!(ts_distance(100, 40), 60);
+    }
+
+    #[test]
+    fn pairs_nearest_across_the_wrap_and_skips_stale() {
+        let recent: VecDeque<_> = [rgb(u32::MAX - 1000, 10.0), rgb(2000, 10.03)].into();
+        assert_eq!(nearest_rgb(&recent, 100, 10.0), Some(0));
+        assert_eq!(nearest_rgb(&recent, 1900, 10.03), Some(1));
+        assert_eq!(nearest_rgb(&recent, 1900, 11.0), None, "RGB from a second ago is not a pair");
+        assert_eq!(nearest_rgb(&VecDeque::new(), 0, 0.0), None);
+    }
+}
