@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use tracing::{info, warn};
 
-use super::freenect::{library, Captured, Selector, Stream};
+use super::freenect::{library, Captured, DropCounters, Selector, Stream};
 use super::Source;
 use crate::calib::Calibration;
 use crate::error::{Error, Result};
@@ -86,7 +86,7 @@ impl KinectSource {
     }
 
     /// Depth and RGB drop counters that outlive the source (for the end-of-run summary).
-    pub fn drop_counters(&self) -> (Arc<std::sync::atomic::AtomicU64>, Arc<std::sync::atomic::AtomicU64>) {
+    pub fn drop_counters(&self) -> DropCounters {
         self.stream.drop_counters()
     }
 

@@ -8,13 +8,13 @@
 
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use tracing::info;
 
 use crate::calib::Calibration;
-use crate::capture::freenect::Selector;
+use crate::capture::freenect::{DropCounters, Selector};
 use crate::capture::kinect::KinectSource;
 use crate::capture::pace::Paced;
 use crate::capture::replay::ReplaySource;
@@ -75,7 +75,7 @@ pub fn run(a: Args) -> Result<()> {
     let stop = Arc::new(AtomicBool::new(false));
     install_signal_handlers(&stop)?;
 
-    let (source, calibration, drops): (Box<dyn Source>, Calibration, Option<(Arc<AtomicU64>, Arc<AtomicU64>)>) = match &a.source {
+    let (source, calibration, drops): (Box<dyn Source>, Calibration, Option<DropCounters>) = match &a.source {
         SourceSpec::Kinect(which) => {
             let k = KinectSource::open(which.clone(), stop.clone())?;
             let (calib, origin) = k.calibration();

@@ -17,31 +17,54 @@ pub const ENV_VAR: &str = "UMBRA_LIBFREENECT";
 const INSTALL: &str = "install it with 'apt-get install libfreenect0.5'";
 
 /// The libfreenect functions umbra calls. The last four are absent from Debian's fakenect 0.5.3.
-#[allow(missing_docs)]
 pub struct Api {
+    /// `freenect_init`.
     pub init: unsafe extern "C" fn(*mut *mut Context, *mut c_void) -> c_int,
+    /// `freenect_shutdown`.
     pub shutdown: unsafe extern "C" fn(*mut Context) -> c_int,
+    /// `freenect_select_subdevices`.
     pub select_subdevices: unsafe extern "C" fn(*mut Context, c_int),
+    /// `freenect_num_devices`.
     pub num_devices: unsafe extern "C" fn(*mut Context) -> c_int,
+    /// `freenect_open_device`.
     pub open_device: unsafe extern "C" fn(*mut Context, *mut *mut Device, c_int) -> c_int,
+    /// `freenect_open_device_by_camera_serial`.
     pub open_device_by_camera_serial: unsafe extern "C" fn(*mut Context, *mut *mut Device, *const c_char) -> c_int,
+    /// `freenect_close_device`.
     pub close_device: unsafe extern "C" fn(*mut Device) -> c_int,
+    /// `freenect_find_depth_mode`.
     pub find_depth_mode: unsafe extern "C" fn(c_int, c_int) -> FrameMode,
+    /// `freenect_find_video_mode`.
     pub find_video_mode: unsafe extern "C" fn(c_int, c_int) -> FrameMode,
+    /// `freenect_set_depth_mode`.
     pub set_depth_mode: unsafe extern "C" fn(*mut Device, FrameMode) -> c_int,
+    /// `freenect_set_video_mode`.
     pub set_video_mode: unsafe extern "C" fn(*mut Device, FrameMode) -> c_int,
+    /// `freenect_set_depth_callback`.
     pub set_depth_callback: unsafe extern "C" fn(*mut Device, Option<FrameCallback>),
+    /// `freenect_set_video_callback`.
     pub set_video_callback: unsafe extern "C" fn(*mut Device, Option<FrameCallback>),
+    /// `freenect_set_user`.
     pub set_user: unsafe extern "C" fn(*mut Device, *mut c_void),
+    /// `freenect_get_user`.
     pub get_user: unsafe extern "C" fn(*mut Device) -> *mut c_void,
+    /// `freenect_start_depth`.
     pub start_depth: unsafe extern "C" fn(*mut Device) -> c_int,
+    /// `freenect_start_video`.
     pub start_video: unsafe extern "C" fn(*mut Device) -> c_int,
+    /// `freenect_stop_depth`.
     pub stop_depth: unsafe extern "C" fn(*mut Device) -> c_int,
+    /// `freenect_stop_video`.
     pub stop_video: unsafe extern "C" fn(*mut Device) -> c_int,
+    /// `freenect_process_events_timeout`.
     pub process_events_timeout: unsafe extern "C" fn(*mut Context, *mut Timeval) -> c_int,
+    /// `freenect_list_device_attributes`.
     pub list_device_attributes: Option<unsafe extern "C" fn(*mut Context, *mut *mut DeviceAttributes) -> c_int>,
+    /// `freenect_free_device_attributes`.
     pub free_device_attributes: Option<unsafe extern "C" fn(*mut DeviceAttributes)>,
+    /// `freenect_copy_registration`.
     pub copy_registration: Option<unsafe extern "C" fn(*mut Device) -> Registration>,
+    /// `freenect_destroy_registration`.
     pub destroy_registration: Option<unsafe extern "C" fn(*mut Registration) -> c_int>,
 }
 

@@ -8,4 +8,4 @@ pub mod stream;
 pub mod sys;
 
 pub use device::Selector;
-pub use stream::{Captured, DeviceInfo, Stream};
+pub use stream::{Captured, DeviceInfo, DropCounters, Stream};

@@ -114,7 +114,14 @@ pub struct Stream {
     thread: Option<JoinHandle<()>>,
 }
 
-fn lane<T: Pod>(pool: usize, len: usize) -> (Lane<T>, Receiver<Captured<T>>, Sender<Vec<T>>, Arc<AtomicU64>) {
+/// Depth and RGB counters of frames dropped because every buffer was in use.
+pub type DropCounters = (Arc<AtomicU64>, Arc<AtomicU64>);
+
+/// A stream's callback side, its consumer's two channel ends and its drop counter.
+type LaneParts<T> = (Lane<T>, Receiver<Captured<T>>, Sender<Vec<T>>, Arc<AtomicU64>);
+
+/// A pool of `pool` buffers of `len` elements and the channels it circulates on.
+fn lane<T: Pod>(pool: usize, len: usize) -> LaneParts<T> {
     let (free_tx, free_rx) = bounded(pool);
     for _ in 0..pool {
         free_tx.send(vec![T::default(); len]).expect("pool channel has room for the whole pool");
@@ -180,7 +187,7 @@ impl Stream {
     }
 
     /// The depth and RGB drop counters themselves, readable after the stream is gone.
-    pub fn drop_counters(&self) -> (Arc<AtomicU64>, Arc<AtomicU64>) {
+    pub fn drop_counters(&self) -> DropCounters {
         (self.depth_dropped.clone(), self.video_dropped.clone())
     }
 }
