@@ -150,14 +150,9 @@ impl Stream {
             std::thread::Builder::new()
                 .name("freenect".into())
                 .spawn(move || {
-                    let mut started = false;
-                    if let Err(e) = capture(lib, &which, shared, [&stop, &halt], &ready_tx, &mut started) {
-                        // Before streaming the error goes to `start`, afterwards to the consumer.
-                        if started {
-                            *failure.lock().unwrap_or_else(|p| p.into_inner()) = Some(e);
-                        } else {
-                            let _ = ready_tx.send(Err(e));
-                        }
+                    // Setup errors go back to `start`; later ones reach the consumer via `failure`.
+                    if let Err(e) = capture(lib, &which, shared, [&stop, &halt], &ready_tx, &failure) {
+                        let _ = ready_tx.send(Err(e));
                     }
                 })
                 .map_err(|e| Error::Usage(format!("cannot start the capture thread: {e}")))?
@@ -201,9 +196,9 @@ impl Drop for Stream {
     }
 }
 
-/// The capture thread's body: every libfreenect call happens here, on one thread. Sets `started`
-/// once the device streams and `ready` has been told.
-fn capture(lib: &'static Library, which: &Selector, shared: Arc<Shared>, stop: [&AtomicBool; 2], ready: &Sender<Result<DeviceInfo>>, started: &mut bool) -> Result<()> {
+/// The capture thread's body: every libfreenect call happens here, on one thread. Errors before
+/// streaming are returned; once `ready` has been told, they are stored in `failure` instead.
+fn capture(lib: &'static Library, which: &Selector, shared: Arc<Shared>, stop: [&AtomicBool; 2], ready: &Sender<Result<DeviceInfo>>, failure: &Mutex<Option<Error>>) -> Result<()> {
     let _span = info_span!("capture", device = %which).entered();
     let ctx = Context::init(lib)?;
     let serials = ctx.serials();
@@ -215,7 +210,6 @@ fn capture(lib: &'static Library, which: &Selector, shared: Arc<Shared>, stop: [
     let info = DeviceInfo { zero_plane: dev.zero_plane(), serials };
     dev.start()?;
     info!(library = %lib.name, fakenect = lib.fakenect, "streaming 640x480 11-bit depth and RGB");
-    *started = true;
     let _ = ready.send(Ok(info));
     let result = loop {
         if stop.iter().any(|s| s.load(Ordering::SeqCst)) {
@@ -237,9 +231,13 @@ fn capture(lib: &'static Library, which: &Selector, shared: Arc<Shared>, stop: [
     dev.stop();
     drop(dev);
     drop(ctx);
-    // The channels' senders go with `shared`: the consumer sees the end once it has drained them.
+    if let Err(e) = result {
+        *failure.lock().unwrap_or_else(|p| p.into_inner()) = Some(e);
+    }
+    // The channels' senders go with `shared`, after `failure` is set: the consumer sees the end
+    // once it has drained them, and then the reason.
     drop(shared);
-    result
+    Ok(())
 }
 
 /// The `Shared` behind a device's user pointer.
