@@ -37,11 +37,11 @@ pub fn is_shadow(code: u8) -> bool {
 
 /// Counts pixels per class; codes outside the table are ignored.
 pub fn histogram(labels: &[u8]) -> [u64; CLASSES] {
-    let mut h = [0u64; CLASSES];
-    for &l in labels {
-        if let Some(c) = h.get_mut(l as usize) {
-            *c += 1;
-        }
-    }
-    h
+    // One pass per code: each compiles to a vectorised compare-and-count, several times faster
+    // than one pass that indexes a counter per pixel (this runs twice per frame in the daemon).
+    // Counting into a u8 per 255-byte chunk lets the compiler use 16 byte lanes per instruction.
+    std::array::from_fn(|c| {
+        let c = c as u8;
+        labels.chunks(255).map(|ch| u64::from(ch.iter().fold(0u8, |n, &l| n + u8::from(l == c)))).sum()
+    })
 }

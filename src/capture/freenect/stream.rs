@@ -10,7 +10,7 @@ use std::ffi::c_void;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
-use std::time::{Duration, SystemTime, UNIX_EPOCH};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use crossbeam_channel::{bounded, Receiver, Sender};
 use tracing::{info, info_span, warn};
@@ -30,6 +30,8 @@ pub struct Captured<T> {
     pub ts: u32,
     /// Host time the callback ran, seconds since the epoch.
     pub unix_time: f64,
+    /// The same moment on the monotonic clock: the start of the frame's end-to-end latency.
+    pub received: Instant,
     /// Frames of this stream dropped since the previous delivered one.
     pub dropped_before: u64,
     /// The pixels; give the buffer back through the stream's `*_free` sender when done.
@@ -78,7 +80,7 @@ impl<T: Pod> Lane<T> {
         // of a type valid for any bytes, and the two cannot overlap (`buf` is ours).
         unsafe { std::ptr::copy_nonoverlapping(src, buf.as_mut_ptr().cast::<u8>(), self.len * size_of::<T>()) };
         let unix_time = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0.0, |d| d.as_secs_f64());
-        let frame = Captured { ts, unix_time, dropped_before: self.pending_drops.swap(0, Ordering::Relaxed), data: buf };
+        let frame = Captured { ts, unix_time, received: Instant::now(), dropped_before: self.pending_drops.swap(0, Ordering::Relaxed), data: buf };
         if let Err(e) = self.full.try_send(frame) {
             let frame = e.into_inner();
             self.pending_drops.fetch_add(1 + frame.dropped_before, Ordering::Relaxed);

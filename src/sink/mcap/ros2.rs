@@ -99,7 +99,13 @@ pub fn encode_image(h: &ImageHeader<'_>, pixels: Pixels<'_>, out: &mut Vec<u8>) 
     w.u32(pixels.byte_len() as u32);
     match pixels {
         Pixels::U8(p) => w.out.extend_from_slice(p),
-        Pixels::U16(p) => w.out.extend(p.iter().flat_map(|v| v.to_le_bytes())),
+        Pixels::U16(p) => {
+            let start = w.out.len();
+            w.out.resize(start + 2 * p.len(), 0);
+            for (d, v) in w.out[start..].chunks_exact_mut(2).zip(p) {
+                d.copy_from_slice(&v.to_le_bytes());
+            }
+        }
     }
 }
 
