@@ -9,7 +9,9 @@ use std::collections::VecDeque;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
+use std::time::Duration;
 
+use crossbeam_channel::RecvTimeoutError;
 use tracing::{info, warn};
 
 use super::freenect::{library, Captured, DropCounters, Selector, Stream};
@@ -33,7 +35,11 @@ pub struct KinectSource {
     calibration: Calibration,
     calibration_origin: String,
     video_drops_reported: u64,
+    stall_timeout: Duration,
 }
+
+/// Default for [`KinectSource::set_stall_timeout`].
+pub const DEFAULT_STALL_TIMEOUT: Duration = Duration::from_secs(5);
 
 impl KinectSource {
     /// Opens `which` and starts streaming; capture stops when `stop` is set (or the source is
@@ -72,7 +78,13 @@ impl KinectSource {
             (None, None) => (Calibration::nyu_default(), "NYU Kinect v1 defaults (no registration data)".to_string()),
         };
         info!(device = %which, serials = ?stream.info.serials, calibration = %calibration_origin, "Kinect open");
-        Ok(KinectSource { stream, recent: VecDeque::with_capacity(RECENT_RGB + 1), calibration, calibration_origin, video_drops_reported: 0 })
+        Ok(KinectSource { stream, recent: VecDeque::with_capacity(RECENT_RGB + 1), calibration, calibration_origin, video_drops_reported: 0, stall_timeout: DEFAULT_STALL_TIMEOUT })
+    }
+
+    /// A device that delivers no depth frame for this long is reported as failed (so that a
+    /// reconnecting caller reopens it) instead of being waited for forever.
+    pub fn set_stall_timeout(&mut self, t: Duration) {
+        self.stall_timeout = t;
     }
 
     /// The device's calibration and where it came from.
@@ -121,13 +133,18 @@ fn nearest_rgb(recent: &VecDeque<Captured<u8>>, depth_ts: u32, depth_time: f64) 
 
 impl Source for KinectSource {
     fn next_frame(&mut self, frame: &mut Frame) -> Result<bool> {
-        let Ok(mut depth) = self.stream.depth.recv() else {
+        let mut depth = match self.stream.depth.recv_timeout(self.stall_timeout) {
+            Ok(d) => d,
             // The capture thread ended: a device error, or the end of a fakenect recording.
-            return self.stream.take_failure().map_or(Ok(false), Err);
+            Err(RecvTimeoutError::Disconnected) => return self.stream.take_failure().map_or(Ok(false), Err),
+            Err(RecvTimeoutError::Timeout) => {
+                return Err(Error::Usage(format!("no depth frame for {:.1} s: the device stalled", self.stall_timeout.as_secs_f64())));
+            }
         };
         frame.device_ts = depth.ts;
         frame.unix_time = depth.unix_time;
         frame.dropped_before = depth.dropped_before;
+        frame.received = Some(depth.received);
         if frame.depth.len() == depth.data.len() {
             // Swap buffers instead of copying: the pool gets the frame's old one back.
             std::mem::swap(&mut frame.depth, &mut depth.data);
@@ -151,7 +168,8 @@ impl Source for KinectSource {
         };
         let (_, video_drops) = self.stream.dropped();
         if video_drops > self.video_drops_reported {
-            warn!(dropped = video_drops - self.video_drops_reported, "pipeline fell behind: RGB frames dropped");
+            frame.rgb_dropped_before = video_drops - self.video_drops_reported;
+            warn!(dropped = frame.rgb_dropped_before, "pipeline fell behind: RGB frames dropped");
             self.video_drops_reported = video_drops;
         }
         Ok(true)
@@ -163,7 +181,7 @@ mod tests {
     use super::*;
 
     fn rgb(ts: u32, t: f64) -> Captured<u8> {
-        Captured { ts, unix_time: t, dropped_before: 0, data: Vec::new() }
+        Captured { ts, unix_time: t, received: std::time::Instant::now(), dropped_before: 0, data: Vec::new() }
     }
 
     #[test]

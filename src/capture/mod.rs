@@ -5,6 +5,7 @@
 pub mod freenect;
 pub mod kinect;
 pub mod pace;
+pub mod reconnect;
 pub mod replay;
 
 use crate::error::Result;

@@ -111,7 +111,6 @@ pub struct McapSink {
     /// Set while failing: when the burst began and when to retry.
     failing_since: Option<Instant>,
     retry_at: Option<Instant>,
-    last_seq: Option<u64>,
 }
 
 impl McapSink {
@@ -125,7 +124,7 @@ impl McapSink {
         if opts.segment_bytes == 0 || opts.segment_age.is_zero() {
             return Err(Error::Usage("MCAP segment size and age limits must be positive".into()));
         }
-        Ok(McapSink { dir: dir.to_path_buf(), opts, current: None, next_index: 0, counters: Arc::default(), failing_since: None, retry_at: None, last_seq: None })
+        Ok(McapSink { dir: dir.to_path_buf(), opts, current: None, next_index: 0, counters: Arc::default(), failing_since: None, retry_at: None })
     }
 
     /// Shared counters (frames written and lost, segments opened and deleted).
@@ -141,7 +140,6 @@ impl McapSink {
     /// Writes `frame` with the given latency and drop count in its stats message. Never fails:
     /// a frame that cannot be written is counted in [`McapCounters::frames_lost`].
     pub fn write_with(&mut self, frame: &Frame, latency_ms: f64, dropped_before: u64) {
-        self.last_seq = Some(frame.seq);
         if self.retry_at.is_some_and(|t| Instant::now() < t) {
             McapCounters::add(&self.counters.frames_lost, 1);
             return;
@@ -231,14 +229,21 @@ impl McapSink {
 }
 
 impl Sink for McapSink {
-    /// Latency is measured from the frame's `unix_time` to now (meaningful for live capture;
-    /// a replayed recording carries its recorded times, so its caller should use
-    /// [`McapSink::write_with`]); frames dropped before this one are inferred from a gap in `seq`.
+    /// Latency runs from the frame's `received` instant (the USB callback for live capture) to
+    /// now; without one, from its `unix_time`. A frame marked as a discontinuity (the device was
+    /// lost and reopened) starts a new segment.
     fn write(&mut self, frame: &Frame) -> Result<()> {
-        let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0.0, |d| d.as_secs_f64());
-        let latency_ms = ((now - frame.unix_time) * 1e3).max(0.0);
-        let dropped = self.last_seq.map_or(0, |last| frame.seq.saturating_sub(last + 1));
-        self.write_with(frame, latency_ms, dropped);
+        let latency_ms = match frame.received {
+            Some(r) => r.elapsed().as_secs_f64() * 1e3,
+            None => {
+                let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0.0, |d| d.as_secs_f64());
+                ((now - frame.unix_time) * 1e3).max(0.0)
+            }
+        };
+        if frame.discontinuity {
+            self.close_current();
+        }
+        self.write_with(frame, latency_ms, frame.dropped_before);
         Ok(())
     }
 
