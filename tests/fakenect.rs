@@ -28,11 +28,19 @@ fn umbra() -> Command {
     c
 }
 
-/// `umbra run --source kinect --out OUT` with fakenect playing `rec`.
+/// `umbra run --source kinect --out OUT/mcap --export-labels OUT/labels` with fakenect playing `rec`.
 fn under_fakenect(fakenect: &str, rec: &Path, out: &Path) -> Command {
     let mut c = umbra();
-    c.env("FAKENECT_PATH", rec).env("LD_LIBRARY_PATH", fakenect).args(["run", "--source", "kinect", "--out"]).arg(out);
+    c.env("FAKENECT_PATH", rec).env("LD_LIBRARY_PATH", fakenect).args(["run", "--source", "kinect", "--out"]).arg(out.join("mcap"));
+    c.arg("--export-labels").arg(out.join("labels"));
     c
+}
+
+/// `umbra tail MCAP_DIR --export-labels DIR`: the labels as the daemon's MCAP segments hold them.
+fn labels_from_mcap(mcap: &Path, dir: &Path) {
+    let mut c = umbra();
+    c.arg("tail").arg(mcap).arg("--export-labels").arg(dir);
+    ok(c);
 }
 
 fn ok(mut c: Command) -> Output {
@@ -79,12 +87,17 @@ fn fakenect_run_writes_every_frame_with_the_labels_of_replay() {
     let mut replay = umbra();
     replay.arg("replay").arg(&rec).arg("--export-labels").arg(&ref_dir);
     ok(replay);
-    let names = files(&out_dir);
-    assert_eq!(names.len(), 40, "{names:?}");
-    assert_eq!(names, files(&ref_dir));
-    for name in &names {
-        let (a, b) = (std::fs::read(out_dir.join(name)).unwrap(), std::fs::read(ref_dir.join(name)).unwrap());
-        assert!(a == b, "{name}: live labels differ from replay's");
+    // Both outputs of the daemon: its label PNGs, and the labels inside its MCAP segments.
+    let from_mcap = tmp.path().join("from-mcap");
+    labels_from_mcap(&out_dir.join("mcap"), &from_mcap);
+    for dir in [out_dir.join("labels"), from_mcap] {
+        let names = files(&dir);
+        assert_eq!(names.len(), 40, "{names:?}");
+        assert_eq!(names, files(&ref_dir));
+        for name in &names {
+            let (a, b) = (std::fs::read(dir.join(name)).unwrap(), std::fs::read(ref_dir.join(name)).unwrap());
+            assert!(a == b, "{}/{name}: live labels differ from replay's", dir.display());
+        }
     }
 }
 
@@ -97,7 +110,7 @@ fn sigterm_mid_run_drains_and_exits_zero_within_two_seconds() {
     let mut child = under_fakenect(fakenect, &rec, &out_dir).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
     // Signal once a few frames are on disk, well before the 2 s recording ends.
     let t = Instant::now();
-    while !out_dir.join("000005.rgb.png").exists() {
+    while !out_dir.join("labels/000005.rgb.png").exists() {
         assert!(t.elapsed() < Duration::from_secs(10), "no frames written");
         std::thread::sleep(Duration::from_millis(5));
     }
@@ -116,13 +129,18 @@ fn sigterm_mid_run_drains_and_exits_zero_within_two_seconds() {
     assert!(line.contains("(stopped by signal)") && line.contains(" 0 depth and 0 RGB frames dropped"), "{line}");
     let n: usize = line["umbra run: ".len()..].split(' ').next().unwrap().parse().unwrap();
     assert!((6..60).contains(&n), "{line}");
-    // Complete files: exactly frames 0..n, both views, each a whole label image.
-    let names = files(&out_dir);
-    assert_eq!(names.len(), 2 * n, "{names:?}");
-    let mut labels = vec![0u8; 640 * 480];
-    for i in 0..n {
-        for view in ["depth", "rgb"] {
-            read_label_png(&label_path(&out_dir, i, view), &mut labels).unwrap_or_else(|e| panic!("frame {i} {view}: {e}"));
+    // Complete files: exactly frames 0..n, both views, each a whole label image, in the PNG
+    // export and in the closed MCAP segment.
+    let from_mcap = tmp.path().join("from-mcap");
+    labels_from_mcap(&out_dir.join("mcap"), &from_mcap);
+    for dir in [out_dir.join("labels"), from_mcap] {
+        let names = files(&dir);
+        assert_eq!(names.len(), 2 * n, "{}: {names:?}", dir.display());
+        let mut labels = vec![0u8; 640 * 480];
+        for i in 0..n {
+            for view in ["depth", "rgb"] {
+                read_label_png(&label_path(&dir, i, view), &mut labels).unwrap_or_else(|e| panic!("frame {i} {view}: {e}"));
+            }
         }
     }
 }
