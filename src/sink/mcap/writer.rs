@@ -75,8 +75,70 @@ pub struct SegmentWriter {
     /// Serialisation buffer, reused for every message.
     buf: Vec<u8>,
     frames: u64,
-    /// A second handle on the file, for `sync_data` (the writer owns the first).
-    sync: Option<(File, Duration, Instant)>,
+    /// Flushes the file to the disk in the background, so the writer never waits for it.
+    sync: Option<Syncer>,
+}
+
+/// A thread that `fdatasync`s a segment when asked, at most once per interval. `fdatasync` can
+/// take tens of milliseconds; on the writer thread that would be the frame latency's p99.
+struct Syncer {
+    every: Duration,
+    last: Instant,
+    ask: Option<crossbeam_channel::Sender<()>>,
+    /// The first error of a background sync, reported on the next frame written.
+    failed: Arc<std::sync::Mutex<Option<std::io::Error>>>,
+    thread: Option<std::thread::JoinHandle<File>>,
+}
+
+impl Syncer {
+    fn start(file: File, every: Duration) -> std::io::Result<Syncer> {
+        let (ask, asked) = crossbeam_channel::bounded::<()>(1);
+        let failed = Arc::new(std::sync::Mutex::new(None));
+        let f = failed.clone();
+        let thread = std::thread::Builder::new().name("mcap-sync".into()).spawn(move || {
+            for () in asked {
+                if let Err(e) = file.sync_data() {
+                    f.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
+                }
+            }
+            file
+        })?;
+        Ok(Syncer { every, last: Instant::now(), ask: Some(ask), failed, thread: Some(thread) })
+    }
+
+    /// Asks for a sync if the interval has passed; returns an earlier sync's failure.
+    fn tick(&mut self) -> std::io::Result<()> {
+        if let Some(e) = self.failed.lock().unwrap_or_else(|p| p.into_inner()).take() {
+            return Err(e);
+        }
+        if self.last.elapsed() >= self.every {
+            self.last = Instant::now();
+            // A sync still running covers this request too.
+            if let Some(ask) = &self.ask {
+                let _ = ask.try_send(());
+            }
+        }
+        Ok(())
+    }
+
+    /// Stops the thread and syncs once more, in the caller's thread.
+    fn finish(mut self) -> std::io::Result<()> {
+        self.ask = None;
+        let file = self.thread.take().and_then(|t| t.join().ok());
+        if let Some(e) = self.failed.lock().unwrap_or_else(|p| p.into_inner()).take() {
+            return Err(e);
+        }
+        file.map_or(Ok(()), |f| f.sync_data())
+    }
+}
+
+impl Drop for Syncer {
+    fn drop(&mut self) {
+        self.ask = None;
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
 }
 
 struct Channels {
@@ -93,7 +155,10 @@ impl SegmentWriter {
     pub fn create(path: &Path, settings: &SegmentSettings) -> Result<Self, WriteError> {
         let file = File::options().write(true).create_new(true).open(path).map_err(|e| WriteError::new(path, "creating segment", e))?;
         let sync = match settings.sync_interval {
-            Some(every) => Some((file.try_clone().map_err(|e| WriteError::new(path, "opening segment", e))?, every, Instant::now())),
+            Some(every) => {
+                let f = file.try_clone().map_err(|e| WriteError::new(path, "opening segment", e))?;
+                Some(Syncer::start(f, every).map_err(|e| WriteError::new(path, "starting the sync thread", e))?)
+            }
             None => None,
         };
         let written = Arc::new(AtomicU64::new(0));
@@ -176,11 +241,8 @@ impl SegmentWriter {
             serde_json::to_writer(&mut self.buf, stats).expect("stats serialise to JSON");
             self.writer.write_to_known_channel(&header(self.channels.stats), &self.buf)?;
             self.writer.flush()?;
-            if let Some((file, every, last)) = &mut self.sync {
-                if last.elapsed() >= *every {
-                    file.sync_data()?;
-                    *last = Instant::now();
-                }
+            if let Some(sync) = &mut self.sync {
+                sync.tick()?;
             }
             Ok(())
         })();
@@ -197,8 +259,8 @@ impl SegmentWriter {
     /// Writes the summary section and footer and closes the file. On failure the segment is
     /// [abandoned](Self::abandon).
     pub fn finish(mut self) -> Result<PathBuf, WriteError> {
-        let synced = |s: &Self| s.sync.as_ref().map_or(Ok(()), |(f, _, _)| f.sync_data().map_err(McapError::from));
-        match self.writer.finish().and_then(|_| synced(&self)) {
+        let result = self.writer.finish().and_then(|_| self.sync.take().map_or(Ok(()), |s| s.finish().map_err(McapError::from)));
+        match result {
             Ok(()) => Ok(self.path),
             Err(e) => {
                 let err = WriteError::new(&self.path, "writing the segment summary", e);
