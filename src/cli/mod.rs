@@ -1,5 +1,6 @@
 //! Command-line interface: one module per subcommand, each a thin layer over the library.
 
+pub mod bench;
 pub mod eval;
 pub mod render;
 pub mod replay;
@@ -36,6 +37,8 @@ pub enum Command {
     Run(run::Args),
     /// Print (and export) the frames of MCAP segments; --follow reads them as they are written.
     Tail(tail::Args),
+    /// Measure the CPU floors `umbra run` is compared with (libfreenect receive, zstd alone).
+    Bench(bench::Args),
 }
 
 /// The progress bar every long-running subcommand shows on stderr (hidden when stderr is not a
@@ -56,5 +59,6 @@ pub fn run(cli: Cli) -> crate::Result<()> {
         Command::Eval(a) => eval::run(a),
         Command::Tail(a) => tail::run(a),
         Command::Run(a) => run::run(a),
+        Command::Bench(a) => bench::run(a),
     }
 }
