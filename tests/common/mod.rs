@@ -1,0 +1,40 @@
+//! Helpers shared by the integration tests that run the `umbra` binary.
+#![allow(dead_code)]
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// The `umbra` binary, with the environment variables that change its behaviour removed.
+pub fn umbra() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_umbra"));
+    c.env_remove("UMBRA_LIBFREENECT").env_remove("FAKENECT_PATH").env_remove("RUST_LOG").env_remove("NOTIFY_SOCKET").env_remove("WATCHDOG_USEC");
+    c
+}
+
+/// Runs `umbra ARGS`: (success, stdout, stderr).
+pub fn run(args: &[&str]) -> (bool, String, String) {
+    let out: Output = umbra().args(args).output().expect("run umbra");
+    (out.status.success(), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// SPEC §5: a failure whose stderr is exactly one `umbra: error: ` line containing every needle.
+pub fn one_line_error(ok: bool, stderr: &str, needles: &[&str]) {
+    assert!(!ok, "expected failure; stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "expected one line: {stderr}");
+    assert!(lines[0].starts_with("umbra: error: "), "{stderr}");
+    for n in needles {
+        assert!(lines[0].contains(n), "{n:?} missing from: {stderr}");
+    }
+}
+
+/// A path as a string argument.
+pub fn s(p: &Path) -> String {
+    p.display().to_string()
+}
+
+/// The bundled recording `name` under recordings/.
+pub fn bundled(name: &str) -> String {
+    format!("{}/recordings/{name}", env!("CARGO_MANIFEST_DIR"))
+}
