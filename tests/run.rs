@@ -145,3 +145,41 @@ fn after_kill_9_tail_recovers_every_complete_frame() {
         }
     }
 }
+
+#[test]
+fn the_service_unit_is_hardened_and_systemd_accepts_it() {
+    let unit = std::fs::read_to_string(format!("{}/config/umbra@.service", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let has = |kv: &str| unit.lines().any(|l| l.trim() == kv);
+    for kv in [
+        "Type=notify",
+        "NoNewPrivileges=yes",
+        "ProtectSystem=strict",
+        "PrivateNetwork=yes",
+        "StateDirectory=umbra/%i",
+        "User=umbra",
+        "SupplementaryGroups=plugdev",
+        "DeviceAllow=char-usb_device rw",
+    ] {
+        assert!(has(kv), "config/umbra@.service lacks {kv}");
+    }
+    let exec = unit.lines().find_map(|l| l.strip_prefix("ExecStart=")).unwrap();
+    assert!(exec.contains("run --config /etc/umbra/umbra.toml --source kinect:%i --out /var/lib/umbra/%i"), "{exec}");
+    // The shipped config must be what the unit's --config accepts.
+    let shipped = format!("{}/config/umbra.toml", env!("CARGO_MANIFEST_DIR"));
+    let (ok, _, stderr) = run(&["run", "--check-config", "--config", &shipped, "--source", "kinect:A00362A09433114A", "--out", "/tmp/umbra-unit-check"]);
+    assert!(ok, "{stderr}");
+    // systemd's own checker, where systemd is installed, with ExecStart pointing at this build.
+    let Ok(probe) = std::process::Command::new("systemd-analyze").arg("--version").output() else {
+        eprintln!("SKIPPED systemd-analyze verify: systemd-analyze is not installed");
+        return;
+    };
+    assert!(probe.status.success());
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("umbra@A00362A09433114A.service");
+    std::fs::write(&path, unit.replace("/usr/local/bin/umbra", env!("CARGO_BIN_EXE_umbra"))).unwrap();
+    let out = std::process::Command::new("systemd-analyze").arg("verify").arg(&path).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    // Messages about the host's other units are not ours; ones naming this unit are.
+    let ours: Vec<&str> = stderr.lines().filter(|l| l.contains("umbra@")).collect();
+    assert!(out.status.success() && ours.is_empty(), "systemd-analyze verify: {stderr}");
+}
