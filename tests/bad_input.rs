@@ -7,6 +7,8 @@
 //! Each case simulates a valid two-frame recording and its ground truth (`umbra synth`) in its
 //! own temporary folder and breaks one thing.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -89,16 +91,9 @@ fn copy_dir(from: &Path, to: &Path) {
     }
 }
 
-/// Asserts a failed run that printed exactly one `umbra: error: ` line containing every needle.
 #[track_caller]
 fn one_line_error((ok, stderr): (bool, String), needles: &[&str]) {
-    assert!(!ok, "expected a failure, got success; stderr: {stderr:?}");
-    assert!(!stderr.contains("panicked") && !stderr.contains("RUST_BACKTRACE"), "panic: {stderr}");
-    assert!(stderr.ends_with('\n') && stderr.matches('\n').count() == 1, "expected exactly one line: {stderr:?}");
-    assert!(stderr.starts_with("umbra: error: "), "{stderr:?}");
-    for n in needles {
-        assert!(stderr.contains(n), "{n:?} missing from: {stderr}");
-    }
+    common::one_line_error(ok, &stderr, needles);
 }
 
 fn read(p: &Path) -> Vec<u8> {

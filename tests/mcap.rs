@@ -4,6 +4,8 @@
 //! reported torn tail; malformed files are one-line errors; `umbra tail` prints, exports and
 //! follows.
 
+mod common;
+
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -19,6 +21,8 @@ use umbra::sink::mcap::segment::list_segments;
 use umbra::sink::mcap::{McapOptions, McapSink};
 use umbra::sink::Sink;
 use umbra::Calibration;
+
+use common::one_line_error;
 
 /// `n` classified frames: a box 1 m before a wall at 3 m, moving right, with speckle holes.
 fn frames(n: usize) -> Vec<Frame> {
@@ -228,17 +232,6 @@ fn a_file_cut_anywhere_yields_exactly_its_complete_chunks() {
     let warn: Vec<&str> = err.lines().collect();
     assert_eq!(warn.len(), 1, "{err}");
     assert!(warn[0].contains("cut.mcap") && warn[0].contains("torn tail") && warn[0].contains("byte "), "{err}");
-}
-
-fn one_line_error(ok: bool, stderr: &str, needles: &[&str]) {
-    assert!(!ok, "expected failure; stderr: {stderr}");
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    let lines: Vec<&str> = stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "expected one line: {stderr}");
-    assert!(lines[0].starts_with("umbra: error: "), "{stderr}");
-    for n in needles {
-        assert!(lines[0].contains(n), "{n:?} missing from: {stderr}");
-    }
 }
 
 #[test]

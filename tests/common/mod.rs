@@ -17,15 +17,16 @@ pub fn run(args: &[&str]) -> (bool, String, String) {
     (out.status.success(), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
 }
 
-/// SPEC §5: a failure whose stderr is exactly one `umbra: error: ` line containing every needle.
+/// SPEC §5: a failure whose stderr is exactly one `umbra: error: ` line containing every needle,
+/// with no panic or backtrace.
+#[track_caller]
 pub fn one_line_error(ok: bool, stderr: &str, needles: &[&str]) {
-    assert!(!ok, "expected failure; stderr: {stderr}");
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    let lines: Vec<&str> = stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "expected one line: {stderr}");
-    assert!(lines[0].starts_with("umbra: error: "), "{stderr}");
+    assert!(!ok, "expected a failure, got success; stderr: {stderr:?}");
+    assert!(!stderr.contains("panicked") && !stderr.contains("RUST_BACKTRACE"), "panic: {stderr}");
+    assert!(stderr.ends_with('\n') && stderr.matches('\n').count() == 1, "expected exactly one line: {stderr:?}");
+    assert!(stderr.starts_with("umbra: error: "), "{stderr:?}");
     for n in needles {
-        assert!(lines[0].contains(n), "{n:?} missing from: {stderr}");
+        assert!(stderr.contains(n), "{n:?} missing from: {stderr}");
     }
 }
 
