@@ -278,6 +278,7 @@ pub fn summary(s: &Stats, lost: u64, cpu: Duration, stopped: bool) -> String {
     format!(
         "umbra run: {} frames written, {} depth and {} RGB frames dropped, {} lost by outputs, {} malformed, {:.1} frames/s over {:.2} s{}\n\
          latency mean/p50/p99/max: received->written {}, queue {}, classify {}, write {}\n\
+         queue depth mean/max: to classify {:.2}/{}, to write {:.2}/{}\n\
          CPU per frame: {:.2} ms total ({:.1}% of a core at 30 fps): read {:.2} ms, classify {:.2} ms, write {:.2} ms",
         s.frames,
         t.frames_dropped.load(Ordering::Relaxed),
@@ -291,6 +292,10 @@ pub fn summary(s: &Stats, lost: u64, cpu: Duration, stopped: bool) -> String {
         t.queue_latency.summary(),
         t.classify_latency.summary(),
         t.write_latency.summary(),
+        t.classify_queue.mean(),
+        t.classify_queue.max(),
+        t.write_queue.mean(),
+        t.write_queue.max(),
         cpu.as_secs_f64() * 1e3 / n,
         cpu.as_secs_f64() / n * 30.0 * 100.0,
         per_frame(cpu_us(0)),

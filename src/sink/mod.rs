@@ -2,6 +2,7 @@
 //! [`LabelExport`] sink that writes them.
 
 pub mod labels;
+pub mod foreground;
 pub mod mcap;
 
 use std::path::{Path, PathBuf};

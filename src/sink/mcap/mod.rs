@@ -39,6 +39,8 @@ pub mod topics {
     pub const RGB_RAW: &str = "/kinect/rgb/image_raw";
     /// Per-frame metadata and class counts (JSON).
     pub const FRAME_STATS: &str = "/umbra/frame_stats";
+    /// Foreground masks (`mono8`, RGB view, 255 = foreground), at a configured rate.
+    pub const FOREGROUND_MASK: &str = "/umbra/foreground_mask";
 }
 
 /// How [`McapSink`] writes and rotates segments.
@@ -54,6 +56,8 @@ pub struct McapOptions {
     pub total_cap_bytes: u64,
     /// Also write `/kinect/rgb/image_raw` for frames that carry RGB.
     pub write_rgb: bool,
+    /// Declare `/umbra/foreground_mask` for [`McapSink::write_mask`].
+    pub write_foreground: bool,
     /// zstd level of the chunks (1 is the fastest; higher buys a little size for much CPU).
     pub zstd_level: u32,
     /// After a write failure, wait this long before trying to open a new segment (frames in
@@ -70,6 +74,7 @@ impl Default for McapOptions {
             segment_age: Duration::from_secs(600),
             total_cap_bytes: 20 << 30,
             write_rgb: false,
+            write_foreground: false,
             zstd_level: 1,
             retry_interval: Duration::from_secs(1),
             sync_interval: Some(Duration::from_secs(1)),
@@ -90,6 +95,10 @@ pub struct McapCounters {
     pub segments_opened: AtomicU64,
     /// Segments deleted by the size cap.
     pub segments_deleted: AtomicU64,
+    /// Foreground masks written.
+    pub masks_written: AtomicU64,
+    /// Foreground masks that could not be written.
+    pub masks_lost: AtomicU64,
 }
 
 impl McapCounters {
@@ -179,10 +188,40 @@ impl McapSink {
         }
     }
 
+    /// Writes a foreground mask of frame `seq` into the open segment. Masks follow their frames,
+    /// so with no segment open (a write failure in progress) the mask is skipped; a failure here
+    /// is handled like a frame's.
+    pub fn write_mask(&mut self, seq: u64, unix_time: f64, mask: &[u8]) {
+        let Some(seg) = self.current.as_mut() else {
+            McapCounters::add(&self.counters.masks_lost, 1);
+            return;
+        };
+        match seg.write_mask(seq, unix_time, mask) {
+            Ok(()) => McapCounters::add(&self.counters.masks_written, 1),
+            Err(e) => {
+                McapCounters::add(&self.counters.masks_lost, 1);
+                if let Some(seg) = self.current.take() {
+                    seg.abandon();
+                }
+                if self.failing_since.is_none() {
+                    self.failing_since = Some(Instant::now());
+                    McapCounters::add(&self.counters.failure_bursts, 1);
+                    warn!(file = %e.path.display(), "MCAP write failed, frames are dropped until it works again: {}", e.message);
+                }
+                self.retry_at = Some(Instant::now() + self.opts.retry_interval);
+            }
+        }
+    }
+
     /// The open segment, opening a new one (and applying the size cap) if there is none.
     fn segment(&mut self) -> Result<&mut SegmentWriter, writer::WriteError> {
         if self.current.is_none() {
-            let settings = SegmentSettings { zstd_level: self.opts.zstd_level, write_rgb: self.opts.write_rgb, sync_interval: self.opts.sync_interval };
+            let settings = SegmentSettings {
+                zstd_level: self.opts.zstd_level,
+                write_rgb: self.opts.write_rgb,
+                write_foreground: self.opts.write_foreground,
+                sync_interval: self.opts.sync_interval,
+            };
             let mut path;
             loop {
                 path = self.dir.join(segment::segment_name(SystemTime::now(), self.next_index));

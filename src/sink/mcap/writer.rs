@@ -55,6 +55,8 @@ pub struct SegmentSettings {
     pub zstd_level: u32,
     /// Write `/kinect/rgb/image_raw` for frames that have RGB.
     pub write_rgb: bool,
+    /// Declare `/umbra/foreground_mask` (masks come from [`SegmentWriter::write_mask`]).
+    pub write_foreground: bool,
     /// Flush the segment to the disk itself (`fdatasync`) at most this often; `None` leaves it
     /// to the kernel. After `kill -9` the page cache keeps every complete chunk anyway; this
     /// bounds what a power cut can take.
@@ -148,6 +150,7 @@ struct Channels {
     reg_labels: u16,
     rgb: u16,
     stats: u16,
+    foreground: Option<u16>,
 }
 
 impl SegmentWriter {
@@ -185,6 +188,7 @@ impl SegmentWriter {
             reg_labels: add(image, topics::REGISTERED_LABELS, "cdr")?,
             rgb: add(image, topics::RGB_RAW, "cdr")?,
             stats: add(json, topics::FRAME_STATS, "json")?,
+            foreground: if settings.write_foreground { Some(add(image, topics::FOREGROUND_MASK, "cdr")?) } else { None },
         };
         // Header, schemas and channels reach the disk now, so a reader sees a valid file at once.
         writer.flush().map_err(|e| fail("writing MCAP header", e))?;
@@ -210,6 +214,35 @@ impl SegmentWriter {
     /// When the segment was opened.
     pub fn opened(&self) -> Instant {
         self.opened
+    }
+
+    /// Writes a foreground mask (RGB view, `mono8`, 255 = foreground) of frame `seq` taken at
+    /// `unix_time`, in a chunk of its own. Nothing is written if the segment was opened without
+    /// the foreground channel.
+    pub fn write_mask(&mut self, seq: u64, unix_time: f64, mask: &[u8]) -> Result<(), WriteError> {
+        let Some(channel) = self.channels.foreground else { return Ok(()) };
+        let (sec, nanosec) = ros2::stamp(unix_time);
+        let time = u64::from(sec as u32) * 1_000_000_000 + u64::from(nanosec);
+        let w = WIDTH as u32;
+        let h = ImageHeader { sec, nanosec, frame_id: RGB_FRAME_ID, height: HEIGHT as u32, width: w, encoding: "mono8", is_bigendian: 0, step: w };
+        self.buf.clear();
+        ros2::encode_image(&h, Pixels::U8(mask), &mut self.buf);
+        let header = MessageHeader { channel_id: channel, sequence: seq as u32, log_time: time, publish_time: time };
+        let result = (|| -> Result<(), McapError> {
+            self.writer.write_to_known_channel(&header, &self.buf)?;
+            self.writer.flush()?;
+            if let Some(sync) = &mut self.sync {
+                sync.tick()?;
+            }
+            Ok(())
+        })();
+        match result {
+            Ok(()) => {
+                self.good_len = self.len();
+                Ok(())
+            }
+            Err(e) => Err(WriteError::new(&self.path, &format!("writing the foreground mask of frame {seq}"), e)),
+        }
     }
 
     /// Writes one frame's messages and closes the chunk, so the frame is on disk (in the page
