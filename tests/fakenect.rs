@@ -166,3 +166,18 @@ fn fakenect_without_a_recording_is_one_line() {
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(stderr.contains("fakenect") && stderr.contains("FAKENECT_PATH is not set"), "{stderr}");
 }
+
+#[test]
+fn devices_lists_the_fakenect_kinect_with_its_source_name() {
+    let Some(fakenect) = fakenect_dir() else { return };
+    let tmp = tempfile::tempdir().unwrap();
+    let rec = synth(tmp.path(), "box", 2);
+    let mut c = umbra();
+    c.env("FAKENECT_PATH", &rec).env("LD_LIBRARY_PATH", fakenect).arg("devices");
+    let stdout = String::from_utf8_lossy(&ok(c).stdout).into_owned();
+    assert!(stdout.starts_with("1 Kinect(s) found through libfreenect.so.0.5 (fakenect replay)"), "{stdout}");
+    assert!(stdout.contains("--source kinect:0"), "{stdout}");
+    let out = umbra().env("LD_LIBRARY_PATH", fakenect).arg("devices").output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.lines().count() == 1 && stderr.contains("FAKENECT_PATH is not set"), "{stderr}");
+}

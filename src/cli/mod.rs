@@ -1,6 +1,7 @@
 //! Command-line interface: one module per subcommand, each a thin layer over the library.
 
 pub mod bench;
+pub mod devices;
 pub mod eval;
 pub mod render;
 pub mod replay;
@@ -37,6 +38,8 @@ pub enum Command {
     Run(run::Args),
     /// Print (and export) the frames of MCAP segments; --follow reads them as they are written.
     Tail(tail::Args),
+    /// List the Kinects libfreenect sees and the --source naming each.
+    Devices(devices::Args),
     /// Measure the CPU floors `umbra run` is compared with (libfreenect receive, zstd alone).
     Bench(bench::Args),
 }
@@ -60,5 +63,6 @@ pub fn run(cli: Cli) -> crate::Result<()> {
         Command::Tail(a) => tail::run(a),
         Command::Run(a) => run::run(a),
         Command::Bench(a) => bench::run(a),
+        Command::Devices(a) => devices::run(a),
     }
 }
