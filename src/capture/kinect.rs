@@ -87,6 +87,12 @@ impl KinectSource {
         self.stall_timeout = t;
     }
 
+    /// The raw capture stream and the calibration, for clients that want every depth and RGB
+    /// frame as delivered rather than depth frames paired with RGB (`umbra record`).
+    pub fn into_stream(self) -> (Stream, Calibration, String) {
+        (self.stream, self.calibration, self.calibration_origin)
+    }
+
     /// The device's calibration and where it came from.
     pub fn calibration(&self) -> (&Calibration, &str) {
         (&self.calibration, &self.calibration_origin)

@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod devices;
 pub mod eval;
+pub mod record;
 pub mod render;
 pub mod replay;
 pub mod run;
@@ -38,6 +39,8 @@ pub enum Command {
     Run(run::Args),
     /// Print (and export) the frames of MCAP segments; --follow reads them as they are written.
     Tail(tail::Args),
+    /// Record a Kinect as a fakenect-format recording with its calibration (your own CI data).
+    Record(record::Args),
     /// List the Kinects libfreenect sees and the --source naming each.
     Devices(devices::Args),
     /// Measure the CPU floors `umbra run` is compared with (libfreenect receive, zstd alone).
@@ -64,5 +67,6 @@ pub fn run(cli: Cli) -> crate::Result<()> {
         Command::Run(a) => run::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Devices(a) => devices::run(a),
+        Command::Record(a) => record::run(a),
     }
 }

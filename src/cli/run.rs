@@ -258,7 +258,7 @@ fn check_config(a: &Args, s: &Settings) -> Result<()> {
 }
 
 /// First SIGINT/SIGTERM: set `stop`. Second: exit at once with status 1.
-fn install_signal_handlers(stop: &Arc<AtomicBool>) -> Result<()> {
+pub(crate) fn install_signal_handlers(stop: &Arc<AtomicBool>) -> Result<()> {
     use signal_hook::consts::{SIGINT, SIGTERM};
     for sig in [SIGINT, SIGTERM] {
         // The shutdown action goes first so that it only fires once the flag is already set.

@@ -6,6 +6,7 @@
 
 pub mod device_json;
 pub mod pnm;
+pub mod writer;
 
 use std::path::{Path, PathBuf};
 
