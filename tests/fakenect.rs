@@ -5,28 +5,14 @@
 //!
 //! The tests skip, saying why, only when the fakenect library is not installed.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
+use common::{fakenect_dir, umbra};
 use umbra::sink::labels::{label_path, read_label_png};
-
-const FAKENECT_DIRS: [&str; 3] = ["/usr/lib/x86_64-linux-gnu/fakenect", "/usr/lib/aarch64-linux-gnu/fakenect", "/usr/lib/fakenect"];
-
-/// The folder holding fakenect's libfreenect.so.0.5, or `None` (and a printed reason).
-fn fakenect_dir() -> Option<&'static str> {
-    let dir = FAKENECT_DIRS.into_iter().find(|d| Path::new(d).join("libfreenect.so.0.5").exists());
-    if dir.is_none() {
-        eprintln!("SKIPPED: libfreenect's fakenect library is not installed (apt-get install libfreenect-bin); looked in {FAKENECT_DIRS:?}");
-    }
-    dir
-}
-
-fn umbra() -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_umbra"));
-    c.env_remove("UMBRA_LIBFREENECT").env_remove("FAKENECT_PATH").env_remove("RUST_LOG");
-    c
-}
 
 /// `umbra run --source kinect --out OUT/mcap --export-labels OUT/labels` with fakenect playing `rec`.
 fn under_fakenect(fakenect: &str, rec: &Path, out: &Path) -> Command {

@@ -8,18 +8,8 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::{one_line_error, s, umbra};
+use common::{fakenect_dir, one_line_error, s, umbra};
 use umbra::recording::Recording;
-
-const FAKENECT_DIRS: [&str; 3] = ["/usr/lib/x86_64-linux-gnu/fakenect", "/usr/lib/aarch64-linux-gnu/fakenect", "/usr/lib/fakenect"];
-
-fn fakenect_dir() -> Option<&'static str> {
-    let dir = FAKENECT_DIRS.into_iter().find(|d| Path::new(d).join("libfreenect.so.0.5").exists());
-    if dir.is_none() {
-        eprintln!("SKIPPED: libfreenect's fakenect library is not installed (apt-get install libfreenect-bin)");
-    }
-    dir
-}
 
 fn ok(mut c: Command) -> String {
     let out = c.output().unwrap();

@@ -39,3 +39,15 @@ pub fn s(p: &Path) -> String {
 pub fn bundled(name: &str) -> String {
     format!("{}/recordings/{name}", env!("CARGO_MANIFEST_DIR"))
 }
+
+/// Where Debian puts libfreenect's fakenect replay library.
+pub const FAKENECT_DIRS: [&str; 3] = ["/usr/lib/x86_64-linux-gnu/fakenect", "/usr/lib/aarch64-linux-gnu/fakenect", "/usr/lib/fakenect"];
+
+/// The folder holding fakenect's libfreenect.so.0.5, or `None` (and a printed reason to skip).
+pub fn fakenect_dir() -> Option<&'static str> {
+    let dir = FAKENECT_DIRS.into_iter().find(|d| Path::new(d).join("libfreenect.so.0.5").exists());
+    if dir.is_none() {
+        eprintln!("SKIPPED: libfreenect's fakenect library is not installed (apt-get install libfreenect-bin); looked in {FAKENECT_DIRS:?}");
+    }
+    dir
+}

@@ -175,15 +175,7 @@ impl McapSink {
             }
             Err(e) => {
                 McapCounters::add(&self.counters.frames_lost, 1);
-                if let Some(seg) = self.current.take() {
-                    seg.abandon();
-                }
-                if self.failing_since.is_none() {
-                    self.failing_since = Some(Instant::now());
-                    McapCounters::add(&self.counters.failure_bursts, 1);
-                    warn!(file = %e.path.display(), "MCAP write failed, frames are dropped until it works again: {}", e.message);
-                }
-                self.retry_at = Some(Instant::now() + self.opts.retry_interval);
+                self.failed(&e);
             }
         }
     }
@@ -200,17 +192,23 @@ impl McapSink {
             Ok(()) => McapCounters::add(&self.counters.masks_written, 1),
             Err(e) => {
                 McapCounters::add(&self.counters.masks_lost, 1);
-                if let Some(seg) = self.current.take() {
-                    seg.abandon();
-                }
-                if self.failing_since.is_none() {
-                    self.failing_since = Some(Instant::now());
-                    McapCounters::add(&self.counters.failure_bursts, 1);
-                    warn!(file = %e.path.display(), "MCAP write failed, frames are dropped until it works again: {}", e.message);
-                }
-                self.retry_at = Some(Instant::now() + self.opts.retry_interval);
+                self.failed(&e);
             }
         }
+    }
+
+    /// After a failed write: cut the segment back to its last complete record, say so once per
+    /// burst, and wait `retry_interval` before trying a new segment.
+    fn failed(&mut self, e: &writer::WriteError) {
+        if let Some(seg) = self.current.take() {
+            seg.abandon();
+        }
+        if self.failing_since.is_none() {
+            self.failing_since = Some(Instant::now());
+            McapCounters::add(&self.counters.failure_bursts, 1);
+            warn!(file = %e.path.display(), "MCAP write failed, frames are dropped until it works again: {}", e.message);
+        }
+        self.retry_at = Some(Instant::now() + self.opts.retry_interval);
     }
 
     /// The open segment, opening a new one (and applying the size cap) if there is none.

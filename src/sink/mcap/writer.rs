@@ -228,21 +228,19 @@ impl SegmentWriter {
         self.buf.clear();
         ros2::encode_image(&h, Pixels::U8(mask), &mut self.buf);
         let header = MessageHeader { channel_id: channel, sequence: seq as u32, log_time: time, publish_time: time };
-        let result = (|| -> Result<(), McapError> {
-            self.writer.write_to_known_channel(&header, &self.buf)?;
-            self.writer.flush()?;
-            if let Some(sync) = &mut self.sync {
-                sync.tick()?;
-            }
-            Ok(())
-        })();
-        match result {
-            Ok(()) => {
-                self.good_len = self.len();
-                Ok(())
-            }
-            Err(e) => Err(WriteError::new(&self.path, &format!("writing the foreground mask of frame {seq}"), e)),
+        let result = self.writer.write_to_known_channel(&header, &self.buf).and_then(|()| self.end_chunk());
+        result.map_err(|e| WriteError::new(&self.path, &format!("writing the foreground mask of frame {seq}"), e))
+    }
+
+    /// Closes the chunk (the unit a reader trusts after a crash), asks for a background sync when
+    /// due, and remembers the file length as the last good one.
+    fn end_chunk(&mut self) -> Result<(), McapError> {
+        self.writer.flush()?;
+        if let Some(sync) = &mut self.sync {
+            sync.tick()?;
         }
+        self.good_len = self.len();
+        Ok(())
     }
 
     /// Writes one frame's messages and closes the chunk, so the frame is on disk (in the page
@@ -273,20 +271,11 @@ impl SegmentWriter {
             self.buf.clear();
             serde_json::to_writer(&mut self.buf, stats).expect("stats serialise to JSON");
             self.writer.write_to_known_channel(&header(self.channels.stats), &self.buf)?;
-            self.writer.flush()?;
-            if let Some(sync) = &mut self.sync {
-                sync.tick()?;
-            }
-            Ok(())
+            self.end_chunk()
         })();
-        match result {
-            Ok(()) => {
-                self.good_len = self.len();
-                self.frames += 1;
-                Ok(())
-            }
-            Err(e) => Err(WriteError::new(&self.path, &format!("writing frame {}", frame.seq), e)),
-        }
+        result.map_err(|e| WriteError::new(&self.path, &format!("writing frame {}", frame.seq), e))?;
+        self.frames += 1;
+        Ok(())
     }
 
     /// Writes the summary section and footer and closes the file. On failure the segment is
