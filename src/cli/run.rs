@@ -279,7 +279,8 @@ pub fn summary(s: &Stats, lost: u64, cpu: Duration, stopped: bool) -> String {
         "umbra run: {} frames written, {} depth and {} RGB frames dropped, {} lost by outputs, {} malformed, {:.1} frames/s over {:.2} s{}\n\
          latency mean/p50/p99/max: received->written {}, queue {}, classify {}, write {}\n\
          queue depth mean/max: to classify {:.2}/{}, to write {:.2}/{}\n\
-         CPU per frame: {:.2} ms total ({:.1}% of a core at 30 fps): read {:.2} ms, classify {:.2} ms, write {:.2} ms",
+         CPU per frame: {:.2} ms total ({:.1}% of a core at 30 fps): read {:.2} ms, classify {:.2} ms, write {:.2} ms, \
+         capture and other threads {:.2} ms",
         s.frames,
         t.frames_dropped.load(Ordering::Relaxed),
         t.rgb_dropped.load(Ordering::Relaxed),
@@ -301,6 +302,9 @@ pub fn summary(s: &Stats, lost: u64, cpu: Duration, stopped: bool) -> String {
         per_frame(cpu_us(0)),
         per_frame(cpu_us(1)),
         per_frame(cpu_us(2)),
+        // The libfreenect event thread (USB or fakenect's file reads, our callbacks' copies),
+        // the status reporter and the MCAP sync thread: what the process used beyond the stages.
+        (cpu.as_secs_f64() * 1e3 / n - per_frame(cpu_us(0) + cpu_us(1) + cpu_us(2))).max(0.0),
     )
 }
 
