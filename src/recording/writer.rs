@@ -100,7 +100,7 @@ mod tests {
         let rgb: Vec<u8> = (0..PIXELS * 3).map(|i| (i % 251) as u8).collect();
         for (k, d) in depth.iter().enumerate() {
             let t = 1.8e9 + k as f64 / 30.0;
-            w.write_depth(t, u32::MAX - 1_000_000 + 2_000_000 * k as u32, d).unwrap();
+            w.write_depth(t, (u32::MAX - 1_000_000).wrapping_add(2_000_000 * k as u32), d).unwrap();
             w.write_rgb(t + 0.002, 7 + k as u32, &rgb).unwrap();
         }
         assert_eq!(w.counts(), (3, 3));
