@@ -2,7 +2,9 @@
 //! (Deng et al., Table 1), and the ground-truth files `umbra synth` writes (SPEC §4 label PNGs
 //! plus an optional `meta.toml` naming the scene's category).
 //!
-//! The scoring core ([`Confusion`], [`Score`], [`Report`]) is pure; [`read_category`] is the only
+//! Foreground masks (SPEC §6) are scored too: [`MaskCounts`], [`SegTally`], [`SegReport`].
+//!
+//! The scoring core ([`Confusion`], [`Score`], [`Report`], and the segmentation scores) is pure; [`read_category`] is the only
 //! I/O here (label PNGs are read and written by [`crate::sink::labels`]).
 
 use std::collections::BTreeMap;
@@ -309,6 +311,237 @@ impl Report {
         let recs: Vec<RecJson> =
             self.recordings.iter().map(|(n, c, t)| RecJson { name: n, category: *c, frames: t.frames }).collect();
         serde_json::json!({ "recordings": recs, "groups": groups })
+    }
+}
+
+/// Foreground masks against ground truth (SPEC §6): pixel counts of one or more frames. A mask
+/// pixel is foreground when non-zero.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct MaskCounts {
+    /// Foreground in both.
+    pub tp: u64,
+    /// Predicted foreground, background in ground truth.
+    pub fp: u64,
+    /// Ground-truth foreground the mask missed.
+    pub fn_: u64,
+}
+
+impl MaskCounts {
+    /// Counts one frame.
+    pub fn of(gt: &[u8], pred: &[u8]) -> MaskCounts {
+        let mut m = MaskCounts::default();
+        for (&g, &p) in gt.iter().zip(pred) {
+            match (g != 0, p != 0) {
+                (true, true) => m.tp += 1,
+                (false, true) => m.fp += 1,
+                (true, false) => m.fn_ += 1,
+                (false, false) => {}
+            }
+        }
+        m
+    }
+
+    /// Intersection over union; 1 when both masks are empty (nothing to find, nothing found).
+    pub fn iou(&self) -> f64 {
+        let union = self.tp + self.fp + self.fn_;
+        if union == 0 {
+            1.0
+        } else {
+            self.tp as f64 / union as f64
+        }
+    }
+
+    /// F-measure (F1 of the foreground class); 1 when both masks are empty.
+    pub fn f_measure(&self) -> f64 {
+        let d = 2 * self.tp + self.fp + self.fn_;
+        if d == 0 {
+            1.0
+        } else {
+            2.0 * self.tp as f64 / d as f64
+        }
+    }
+}
+
+/// Segmentation results of some frames: per-frame IoU and F-measure summed (the report shows
+/// their means), and how many seeds fell on the side ground truth gives them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct SegTally {
+    /// Frames counted.
+    pub frames: u64,
+    /// Sum of per-frame IoU.
+    pub iou_sum: f64,
+    /// Sum of per-frame F-measure.
+    pub f_sum: f64,
+    /// Seeds (foreground and background) used.
+    pub seeds: u64,
+    /// Seeds whose side matches ground truth.
+    pub seeds_right: u64,
+}
+
+impl SegTally {
+    /// Counts one frame: ground-truth mask, predicted mask, and the seed map (`fg_code` and
+    /// `bg_code` mark seeds, anything else is none).
+    pub fn add_frame(&mut self, gt: &[u8], pred: &[u8], seeds: &[u8], fg_code: u8, bg_code: u8) {
+        let m = MaskCounts::of(gt, pred);
+        self.frames += 1;
+        self.iou_sum += m.iou();
+        self.f_sum += m.f_measure();
+        for (&g, &s) in gt.iter().zip(seeds) {
+            if s == fg_code || s == bg_code {
+                self.seeds += 1;
+                self.seeds_right += u64::from((s == fg_code) == (g != 0));
+            }
+        }
+    }
+
+    /// Adds another tally.
+    pub fn merge(&mut self, o: &SegTally) {
+        self.frames += o.frames;
+        self.iou_sum += o.iou_sum;
+        self.f_sum += o.f_sum;
+        self.seeds += o.seeds;
+        self.seeds_right += o.seeds_right;
+    }
+
+    /// Mean per-frame IoU; `None` without frames.
+    pub fn mean_iou(&self) -> Option<f64> {
+        (self.frames > 0).then(|| self.iou_sum / self.frames as f64)
+    }
+
+    /// Mean per-frame F-measure; `None` without frames.
+    pub fn mean_f(&self) -> Option<f64> {
+        (self.frames > 0).then(|| self.f_sum / self.frames as f64)
+    }
+
+    /// Fraction of seeds on their ground-truth side; `None` without seeds.
+    pub fn seed_precision(&self) -> Option<f64> {
+        (self.seeds > 0).then(|| self.seeds_right as f64 / self.seeds as f64)
+    }
+}
+
+/// Shadow seeds against threshold seeds: each recording's shadow-seed tally and one tally per
+/// (Tf, Tb) pair of the threshold baseline's grid.
+#[derive(Clone, Debug, Default)]
+pub struct SegReport {
+    /// The (Tf, Tb) pairs tried, metres.
+    pub pairs: Vec<(f32, f32)>,
+    recordings: Vec<(String, Option<Category>, SegTally, Vec<SegTally>)>,
+}
+
+impl SegReport {
+    /// An empty report over the threshold pairs `pairs`.
+    pub fn new(pairs: Vec<(f32, f32)>) -> Self {
+        SegReport { pairs, recordings: Vec::new() }
+    }
+
+    /// Adds one recording: its shadow-seed tally and one threshold tally per pair (same order).
+    pub fn add_recording(&mut self, name: impl Into<String>, category: Option<Category>, shadow: SegTally, threshold: Vec<SegTally>) {
+        assert_eq!(threshold.len(), self.pairs.len(), "one threshold tally per pair");
+        self.recordings.push((name.into(), category, shadow, threshold));
+    }
+
+    /// The index of the single best fixed pair for the whole benchmark: highest mean IoU over all
+    /// frames (ties: the first).
+    pub fn best_pair(&self) -> Option<usize> {
+        (0..self.pairs.len()).max_by(|&a, &b| {
+            let t = |k: usize| {
+                let mut all = SegTally::default();
+                for r in &self.recordings {
+                    all.merge(&r.3[k]);
+                }
+                all.mean_iou().unwrap_or(0.0)
+            };
+            t(a).total_cmp(&t(b)).then(b.cmp(&a))
+        })
+    }
+
+    /// Groups in report order (`all`, then each category): shadow tally and best-pair tally.
+    pub fn groups(&self) -> Vec<(&'static str, SegTally, SegTally)> {
+        let best = self.best_pair();
+        let mut out: Vec<(&'static str, SegTally, SegTally)> = vec![("all", SegTally::default(), SegTally::default())];
+        for (_, cat, shadow, thr) in &self.recordings {
+            let b = best.map(|k| thr[k]).unwrap_or_default();
+            for name in ["all"].into_iter().chain(cat.map(Category::name)) {
+                let slot = match out.iter().position(|g| g.0 == name) {
+                    Some(i) => i,
+                    None => {
+                        out.push((name, SegTally::default(), SegTally::default()));
+                        out.len() - 1
+                    }
+                };
+                out[slot].1.merge(shadow);
+                out[slot].2.merge(&b);
+            }
+        }
+        // Categories in their fixed order after "all".
+        out[1..].sort_by_key(|g| if g.0 == "simple" { 0 } else { 1 });
+        out
+    }
+
+    /// The plain-text table: mean IoU, mean F-measure and seed precision per group for shadow
+    /// seeds and for the best fixed threshold pair.
+    pub fn to_table(&self) -> String {
+        let mut s = String::new();
+        let best = self.best_pair();
+        match best {
+            Some(k) => {
+                let _ = writeln!(
+                    s,
+                    "\nsegmentation: threshold baseline at the best fixed pair of {} tried, Tf {:.2} m, Tb {:.2} m",
+                    self.pairs.len(),
+                    self.pairs[k].0,
+                    self.pairs[k].1
+                );
+            }
+            None => {
+                let _ = writeln!(s, "\nsegmentation: no threshold pair tried");
+            }
+        }
+        let _ = writeln!(s, "{:<8} {:<10} {:>7} {:>9} {:>9} {:>14}", "group", "seeds", "frames", "mean IoU", "mean F", "seed precision");
+        for (name, shadow, thr) in self.groups() {
+            for (label, t) in [("shadow", shadow), ("threshold", thr)] {
+                let _ = writeln!(
+                    s,
+                    "{:<8} {:<10} {:>7} {:>9} {:>9} {:>14}",
+                    name,
+                    label,
+                    t.frames,
+                    fmt_ratio(t.mean_iou()),
+                    fmt_ratio(t.mean_f()),
+                    fmt_ratio(t.seed_precision())
+                );
+            }
+        }
+        s
+    }
+
+    /// The same as one JSON value, plus the mean IoU of every pair tried.
+    pub fn to_json(&self) -> serde_json::Value {
+        let one = |t: &SegTally| {
+            serde_json::json!({
+                "frames": t.frames,
+                "mean_iou": t.mean_iou(),
+                "mean_f": t.mean_f(),
+                "seed_precision": t.seed_precision(),
+                "seeds": t.seeds,
+            })
+        };
+        let groups: serde_json::Map<String, serde_json::Value> = self
+            .groups()
+            .iter()
+            .map(|(n, sh, th)| (n.to_string(), serde_json::json!({ "shadow": one(sh), "threshold": one(th) })))
+            .collect();
+        let grid: Vec<serde_json::Value> = (0..self.pairs.len())
+            .map(|k| {
+                let mut all = SegTally::default();
+                for r in &self.recordings {
+                    all.merge(&r.3[k]);
+                }
+                serde_json::json!({ "tf_m": self.pairs[k].0, "tb_m": self.pairs[k].1, "mean_iou": all.mean_iou() })
+            })
+            .collect();
+        let best = self.best_pair().map(|k| serde_json::json!({ "tf_m": self.pairs[k].0, "tb_m": self.pairs[k].1 }));
+        serde_json::json!({ "best_threshold": best, "groups": groups, "threshold_grid": grid })
     }
 }
 

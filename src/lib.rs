@@ -20,6 +20,7 @@ pub mod labels;
 pub mod pipeline;
 pub mod recording;
 pub mod render;
+pub mod segment;
 pub mod service;
 pub mod sink;
 pub mod synth;

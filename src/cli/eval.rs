@@ -1,5 +1,6 @@
 //! `umbra eval`: classifies every frame of one recording (or of each recording in a folder) and
-//! scores the labels against ground-truth label PNGs.
+//! scores the labels against ground-truth label PNGs; with `--segment`, also scores foreground
+//! masks of shadow seeds against the threshold baseline at its best fixed Tf/Tb.
 
 use std::path::{Path, PathBuf};
 
@@ -7,7 +8,9 @@ use indicatif::ProgressBar;
 
 use crate::classify::{Classified, Classifier};
 use crate::error::{Error, Result};
-use crate::eval::{read_category, Report, Tally};
+use crate::eval::{read_category, Report, SegReport, SegTally, Tally};
+use crate::segment::files::{mask_path, read_mask_png};
+use crate::segment::{Params as SegParams, SeedMode, Segmenter, BG, FG};
 use crate::sink::labels::{read_label_png, write_label_png};
 use crate::labels::PIXELS;
 use crate::recording::Recording;
@@ -31,6 +34,91 @@ pub struct Args {
     /// Settings file (see config/umbra.toml); built-in defaults without it.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
+    /// Also segment every frame (SPEC §6) with shadow seeds and with the threshold baseline over
+    /// a grid of Tf/Tb pairs, and score the masks against <i:06>.fg.png: mean IoU, F-measure and
+    /// seed precision per scene category, the baseline at its single best pair.
+    #[arg(long)]
+    pub segment: bool,
+    /// With --segment: the threshold baseline's Tf (metres) instead of the grid search.
+    #[arg(long, value_name = "M", requires = "segment", requires = "tb")]
+    pub tf: Option<f32>,
+    /// With --segment: the threshold baseline's Tb (metres) instead of the grid search.
+    #[arg(long, value_name = "M", requires = "segment", requires = "tf")]
+    pub tb: Option<f32>,
+}
+
+/// Tf values of the threshold grid search (metres).
+const GRID_TF: [f32; 9] = [1.0, 1.25, 1.5, 1.75, 2.0, 2.25, 2.5, 2.75, 3.0];
+/// Tb − Tf values of the grid search (metres).
+const GRID_GAP: [f32; 4] = [0.0, 0.25, 0.5, 1.0];
+
+/// The threshold pairs to try: the one given, or the grid.
+fn threshold_pairs(a: &Args) -> Result<Vec<(f32, f32)>> {
+    match (a.tf, a.tb) {
+        (Some(tf), Some(tb)) if tf.is_finite() && tb.is_finite() && tf > 0.0 && tb >= tf => Ok(vec![(tf, tb)]),
+        (Some(tf), Some(tb)) => Err(Error::Usage(format!("--tf {tf} --tb {tb}: expected 0 < Tf <= Tb (metres)"))),
+        _ => Ok(GRID_TF.iter().flat_map(|&tf| GRID_GAP.iter().map(move |&g| (tf, tf + g))).collect()),
+    }
+}
+
+/// Segmenters and buffers for `--segment`: one segmenter for shadow seeds, one per worker thread
+/// for the threshold pairs.
+struct SegWork {
+    pairs: Vec<(f32, f32)>,
+    shadow: Segmenter,
+    workers: Vec<Segmenter>,
+    rgb: Vec<u8>,
+    gt: Vec<u8>,
+    mask: Vec<u8>,
+}
+
+impl SegWork {
+    fn new(pairs: Vec<(f32, f32)>) -> Self {
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).clamp(1, pairs.len().max(1));
+        SegWork {
+            shadow: Segmenter::new(SegParams::default()),
+            workers: (0..threads).map(|_| Segmenter::new(SegParams::default())).collect(),
+            pairs,
+            rgb: vec![0; 3 * PIXELS],
+            gt: vec![0; PIXELS],
+            mask: vec![0; PIXELS],
+        }
+    }
+
+    /// Segments one frame with shadow seeds and every threshold pair; adds to the tallies.
+    fn frame(&mut self, classified: &Classified, shadow: &mut SegTally, threshold: &mut [SegTally]) {
+        self.shadow.segment(&self.rgb, classified, &mut self.mask);
+        shadow.add_frame(&self.gt, &self.mask, self.shadow.seeds(), FG, BG);
+        let n = self.workers.len();
+        let (rgb, gt, pairs) = (&self.rgb, &self.gt, &self.pairs);
+        std::thread::scope(|scope| {
+            let handles: Vec<_> = self
+                .workers
+                .iter_mut()
+                .enumerate()
+                .map(|(w, seg)| {
+                    scope.spawn(move || {
+                        let mut mask = vec![0u8; PIXELS];
+                        let mut out = Vec::new();
+                        for k in (w..pairs.len()).step_by(n) {
+                            let (tf_m, tb_m) = pairs[k];
+                            seg.set_seed_mode(SeedMode::Threshold { tf_m, tb_m });
+                            seg.segment(rgb, classified, &mut mask);
+                            let mut t = SegTally::default();
+                            t.add_frame(gt, &mask, seg.seeds(), FG, BG);
+                            out.push((k, t));
+                        }
+                        out
+                    })
+                })
+                .collect();
+            for h in handles {
+                for (k, t) in h.join().expect("segmentation worker") {
+                    threshold[k].merge(&t);
+                }
+            }
+        });
+    }
 }
 
 /// One recording to score, with where its ground truth and exported labels go.
@@ -48,17 +136,29 @@ pub fn run(a: Args) -> Result<()> {
     let total: u64 = jobs.iter().map(|j| j.rec.len() as u64).sum();
     let bar = super::progress_bar(total, "frames");
     let mut report = Report::default();
+    let mut seg = if a.segment { Some(SegWork::new(threshold_pairs(&a)?)) } else { None };
+    let mut seg_report = seg.as_ref().map(|w| SegReport::new(w.pairs.clone()));
     for job in &jobs {
         bar.set_prefix(job.name.clone());
-        let tally = score(job, params, &bar)?;
+        let (tally, seg_tally) = score(job, params, seg.as_mut(), &bar).inspect_err(|_| bar.abandon())?;
         let category = read_category(&job.gt.join("meta.toml"))?;
         report.add_recording(job.name.clone(), category, tally);
+        if let (Some(r), Some((shadow, thr))) = (seg_report.as_mut(), seg_tally) {
+            r.add_recording(job.name.clone(), category, shadow, thr);
+        }
     }
     bar.finish_and_clear();
     if a.json {
-        println!("{}", report.to_json());
+        let mut v = report.to_json();
+        if let Some(r) = &seg_report {
+            v["segmentation"] = r.to_json();
+        }
+        println!("{v}");
     } else {
         print!("{}", report.to_table());
+        if let Some(r) = &seg_report {
+            print!("{}", r.to_table());
+        }
     }
     Ok(())
 }
@@ -110,8 +210,9 @@ fn plan(a: &Args) -> Result<Vec<Job>> {
         .collect()
 }
 
-/// Classifies every frame of one recording and counts it against ground truth.
-fn score(job: &Job, params: crate::classify::Params, bar: &ProgressBar) -> Result<Tally> {
+/// Classifies every frame of one recording and counts it against ground truth; with `seg`, also
+/// segments it and scores the masks.
+fn score(job: &Job, params: crate::classify::Params, mut seg: Option<&mut SegWork>, bar: &ProgressBar) -> Result<(Tally, Option<(SegTally, Vec<SegTally>)>)> {
     if let Some(dir) = &job.export {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating", e))?;
     }
@@ -120,20 +221,32 @@ fn score(job: &Job, params: crate::classify::Params, bar: &ProgressBar) -> Resul
     let mut raw = vec![0u16; PIXELS];
     let (mut gt_ir, mut gt_rgb) = (vec![0u8; PIXELS], vec![0u8; PIXELS]);
     let mut tally = Tally::default();
+    let mut shadow = SegTally::default();
+    let mut threshold = vec![SegTally::default(); seg.as_ref().map_or(0, |w| w.pairs.len())];
     for i in 0..job.rec.len() {
         // Read ground truth first: a missing file fails before any work on the frame.
         read_label_png(&gt_path(&job.gt, i, "depth"), &mut gt_ir)?;
         read_label_png(&gt_path(&job.gt, i, "rgb"), &mut gt_rgb)?;
+        if let Some(w) = seg.as_deref_mut() {
+            read_mask_png(&mask_path(&job.gt, i), &mut w.gt)?;
+            if !job.rec.read_rgb(i, &mut w.rgb)? {
+                let index = job.rec.dir().join("INDEX.txt");
+                return Err(Error::input(index, "", format!("depth frame {i} has no RGB frame to segment (expected r-*.ppm lines)")));
+            }
+        }
         job.rec.read_depth(i, &mut raw)?;
         classifier.classify(&raw, &mut out);
         tally.add_frame(&gt_ir, &out.ir_labels, &gt_rgb, &out.rgb_labels);
+        if let Some(w) = seg.as_deref_mut() {
+            w.frame(&out, &mut shadow, &mut threshold);
+        }
         if let Some(dir) = &job.export {
             write_label_png(&gt_path(dir, i, "depth"), &out.ir_labels)?;
             write_label_png(&gt_path(dir, i, "rgb"), &out.rgb_labels)?;
         }
         bar.inc(1);
     }
-    Ok(tally)
+    Ok((tally, seg.map(|_| (shadow, threshold))))
 }
 
 /// `<dir>/<i:06>.<view>.png`, the SPEC §4 name.

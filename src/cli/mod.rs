@@ -7,6 +7,7 @@ pub mod record;
 pub mod render;
 pub mod replay;
 pub mod run;
+pub mod segment;
 pub mod synth;
 pub mod tail;
 
@@ -45,6 +46,8 @@ pub enum Command {
     Devices(devices::Args),
     /// Measure the CPU floors `umbra run` is compared with (libfreenect receive, zstd alone).
     Bench(bench::Args),
+    /// Automatic foreground masks from classified shadows (SPEC §6), with overlay pictures.
+    Segment(segment::Args),
 }
 
 /// The progress bar every long-running subcommand shows on stderr (hidden when stderr is not a
@@ -68,5 +71,6 @@ pub fn run(cli: Cli) -> crate::Result<()> {
         Command::Bench(a) => bench::run(a),
         Command::Devices(a) => devices::run(a),
         Command::Record(a) => record::run(a),
+        Command::Segment(a) => segment::run(a),
     }
 }

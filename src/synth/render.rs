@@ -32,6 +32,9 @@ pub struct SynthFrame {
     pub ir_labels: Vec<u8>,
     /// Ground-truth labels in the RGB view.
     pub rgb_labels: Vec<u8>,
+    /// Ground-truth foreground in the RGB view (SPEC §6): 255 where the RGB camera sees an object
+    /// that is part of no room surface ([`super::Object::is_foreground`]), else 0.
+    pub fg: Vec<u8>,
 }
 
 /// Where a segment ends short of its end point: the fraction `1 − SEG_EPS` keeps a surface from
@@ -166,12 +169,13 @@ pub fn render_frame(scene: &Scene, calib: &Calibration, sensor: &SensorModel, se
     sensor::mixed_pixels(sensor, &labels, &mut raw, &mut rng);
     sensor::speckle(sensor, &mut labels, &mut raw, &mut rng);
     sensor::spurious(sensor, calib, &g.z, &mut labels, &mut raw, &mut rng);
-    let (rgb, rgb_labels) = render_rgb(scene, calib, sensor, &labels, &mut rng);
-    SynthFrame { raw, rgb, ir_labels: labels, rgb_labels }
+    let (rgb, rgb_labels, fg) = render_rgb(scene, calib, sensor, &labels, &mut rng);
+    SynthFrame { raw, rgb, ir_labels: labels, rgb_labels, fg }
 }
 
-/// The RGB camera's image and labels, given the final IR-view labels.
-pub fn render_rgb(scene: &Scene, calib: &Calibration, sensor: &SensorModel, ir: &[u8], rng: &mut impl Rng) -> (Vec<u8>, Vec<u8>) {
+/// The RGB camera's image, labels and foreground mask, given the final IR-view labels. The mask
+/// takes no random draw, so adding it left the image and labels byte-identical.
+pub fn render_rgb(scene: &Scene, calib: &Calibration, sensor: &SensorModel, ir: &[u8], rng: &mut impl Rng) -> (Vec<u8>, Vec<u8>, Vec<u8>) {
     let tracer = Tracer::new(scene);
     let rt = calib.depth_to_rgb.rotation.transpose();
     let centre = -(rt * calib.depth_to_rgb.translation);
@@ -180,6 +184,7 @@ pub fn render_rgb(scene: &Scene, calib: &Calibration, sensor: &SensorModel, ir: 
     let k = &calib.depth;
     let mut rgb = vec![0u8; PIXELS * 3];
     let mut labels = vec![OTHER; PIXELS];
+    let mut fg = vec![0u8; PIXELS];
     for v in 0..HEIGHT {
         for u in 0..WIDTH {
             let i = v * WIDTH + u;
@@ -189,6 +194,9 @@ pub fn render_rgb(scene: &Scene, calib: &Calibration, sensor: &SensorModel, ir: 
                 continue;
             };
             let p = centre + d * hit.t;
+            if scene.objects[obj].is_foreground() {
+                fg[i] = 255;
+            }
             let m = &scene.objects[obj].material;
             shade(&mut rgb[3 * i..3 * i + 3], &p, &hit.normal, &d, &lamp, m, obj, sensor.rgb_noise_sigma, rng);
             if p.z <= 0.0 {
@@ -210,7 +218,7 @@ pub fn render_rgb(scene: &Scene, calib: &Calibration, sensor: &SensorModel, ir: 
             };
         }
     }
-    (rgb, labels)
+    (rgb, labels, fg)
 }
 
 /// Colour of one RGB pixel: material colour × (ambient + Lambert) × a little 3-D texture, plus

@@ -75,6 +75,15 @@ pub fn floor(h: f64, pitch: f64) -> Shape {
     Shape::Plane { normal: V3::new(0.0, -pitch.cos(), -pitch.sin()), offset: -h }
 }
 
+impl Object {
+    /// True for salient objects, the foreground of SPEC §6: everything but the room's surfaces.
+    /// Walls, floors and partitions (a room wall in front of a farther one) are background, and
+    /// so are posters: a few millimetres thick on a wall, they are part of it for a segmenter.
+    pub fn is_foreground(&self) -> bool {
+        !matches!(self.kind, "wall" | "floor" | "partition" | "poster")
+    }
+}
+
 impl Scene {
     /// An empty scene with a description.
     pub fn new(description: impl Into<String>) -> Self {

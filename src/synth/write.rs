@@ -68,7 +68,8 @@ pub fn job_frame(job: &Job, i: usize) -> SynthFrame {
     render_frame(&job.scene.at_frame(i), &job.calib, &job.sensor, frame_seed(job.seed, i))
 }
 
-/// Simulates `job` into `rec_dir` (recording) and `gt_dir` (labels); both must be empty or absent.
+/// Simulates `job` into `rec_dir` (recording) and `gt_dir` (labels `<i:06>.depth.png`,
+/// `<i:06>.rgb.png`, foreground masks `<i:06>.fg.png`, `meta.toml`); both must be empty or absent.
 /// Calls `tick` after each frame. Returns the pixel count per label class over both views.
 pub fn write_job(job: &Job, rec_dir: &Path, gt_dir: &Path, tick: &mut dyn FnMut()) -> Result<[u64; CLASSES]> {
     check_free(rec_dir)?;
@@ -90,6 +91,8 @@ pub fn write_job(job: &Job, rec_dir: &Path, gt_dir: &Path, tick: &mut dyn FnMut(
         pnm::write_rgb(&rec_dir.join(&r), &f.rgb)?;
         write_label_png(&label_path(gt_dir, i, "depth"), &f.ir_labels)?;
         write_label_png(&label_path(gt_dir, i, "rgb"), &f.rgb_labels)?;
+        // SPEC §6 ground truth; label_path's naming gives <i:06>.fg.png.
+        write_label_png(&label_path(gt_dir, i, "fg"), &f.fg)?;
         let _ = writeln!(index, "{d}\n{r}");
         for (t, h) in totals.iter_mut().zip(labels::histogram(&f.ir_labels).iter().zip(labels::histogram(&f.rgb_labels))) {
             *t += h.0 + h.1;
