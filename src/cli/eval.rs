@@ -86,9 +86,12 @@ impl SegWork {
     }
 
     /// Segments one frame with shadow seeds and every threshold pair; adds to the tallies.
-    fn frame(&mut self, classified: &Classified, shadow: &mut SegTally, threshold: &mut [SegTally]) {
+    fn frame(&mut self, name: &str, i: usize, classified: &Classified, shadow: &mut SegTally, threshold: &mut [SegTally]) {
         self.shadow.segment(&self.rgb, classified, &mut self.mask);
-        shadow.add_frame(&self.gt, &self.mask, self.shadow.seeds(), FG, BG);
+        let mut one = SegTally::default();
+        one.add_frame(&self.gt, &self.mask, self.shadow.seeds(), FG, BG);
+        tracing::info!("{name} frame {i}: shadow seeds IoU {:.3}, seed precision {:.3} of {}", one.iou_sum, one.seed_precision().unwrap_or(0.0), one.seeds);
+        shadow.merge(&one);
         let n = self.workers.len();
         let (rgb, gt, pairs) = (&self.rgb, &self.gt, &self.pairs);
         std::thread::scope(|scope| {
@@ -238,7 +241,7 @@ fn score(job: &Job, params: crate::classify::Params, mut seg: Option<&mut SegWor
         classifier.classify(&raw, &mut out);
         tally.add_frame(&gt_ir, &out.ir_labels, &gt_rgb, &out.rgb_labels);
         if let Some(w) = seg.as_deref_mut() {
-            w.frame(&out, &mut shadow, &mut threshold);
+            w.frame(&job.name, i, &out, &mut shadow, &mut threshold);
         }
         if let Some(dir) = &job.export {
             write_label_png(&gt_path(dir, i, "depth"), &out.ir_labels)?;

@@ -43,6 +43,8 @@ pub struct Params {
     pub seeds: SeedMode,
     /// Geometry of shadow seeds.
     pub shadow: SeedParams,
+    /// Room-surface planes that grow background shadow seeds (`max_planes` 0: off).
+    pub planes: seeds::PlaneParams,
     /// k of the k-means that rejects wrong shadow seeds (0: keep every seed).
     pub clusters: usize,
     /// Largest share of the minority side in a cluster before the whole cluster is dropped.
@@ -63,6 +65,7 @@ impl Default for Params {
         Params {
             seeds: SeedMode::Shadow,
             shadow: SeedParams::default(),
+            planes: seeds::PlaneParams::default(),
             clusters: 12,
             max_minority: 0.2,
             components: 5,
@@ -94,6 +97,8 @@ const HARD: i32 = 1 << 24;
 const EMPTY_COST: f32 = 30.0;
 /// Highest data cost difference (nats): one pixel's evidence never outweighs everything.
 const MAX_COST: f32 = 60.0;
+/// Cost of a colour under the uniform density over the 8-bit RGB cube: 3·ln 256 nats.
+const UNIFORM_COLOUR_COST: f32 = 16.64;
 /// At most this many seeds initialise a mixture (evenly subsampled).
 const INIT_SAMPLES: usize = 4096;
 
@@ -113,6 +118,7 @@ pub struct Segmenter {
     stats_fg: Stats,
     stats_bg: Stats,
     cluster: seeds::ClusterScratch,
+    plane: seeds::PlaneScratch,
     samples: Vec<Point>,
     assign: Vec<u8>,
     dist: Vec<f32>,
@@ -138,6 +144,7 @@ impl Segmenter {
             stats_fg: Stats::default(),
             stats_bg: Stats::default(),
             cluster: seeds::ClusterScratch::default(),
+            plane: seeds::PlaneScratch::default(),
             samples: Vec::with_capacity(INIT_SAMPLES),
             assign: vec![0; INIT_SAMPLES],
             dist: vec![0.0; INIT_SAMPLES],
@@ -178,6 +185,9 @@ impl Segmenter {
                         self.params.max_minority,
                         &mut self.cluster,
                     );
+                }
+                if self.params.planes.max_planes > 0 {
+                    seeds::plane_seeds(labels, mm, &self.params.planes, &mut self.seeds, &mut self.plane);
                 }
             }
             SeedMode::Threshold { tf_m, tb_m } => seeds::threshold_seeds(labels, mm, tf_m, tb_m, &mut self.seeds),
@@ -279,7 +289,13 @@ impl Segmenter {
         flow.reset(WIDTH, HEIGHT);
         for p in 0..PIXELS {
             let x = &self.features[p];
-            let (cf, kf) = self.fg.cost(x, EMPTY_COST);
+            let (mut cf, kf) = self.fg.cost(x, EMPTY_COST);
+            if x[3] == 0.0 {
+                // No depth: foreground is anything the background does not explain (a uniform
+                // outlier colour model), so black and glossy objects that no seed reaches stand
+                // out against the room's colours.
+                cf = cf.min(UNIFORM_COLOUR_COST);
+            }
             let (cb, kb) = self.bg.cost(x, EMPTY_COST);
             self.comp_fg[p] = kf;
             self.comp_bg[p] = kb;

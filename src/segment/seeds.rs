@@ -242,3 +242,140 @@ pub fn reject_by_clusters(seeds: &mut [u8], features: &[Point], clusters: usize,
     }
     rejected
 }
+
+/// Room-surface planes found by [`plane_seeds`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlaneParams {
+    /// Planes looked for at most.
+    pub max_planes: usize,
+    /// Smallest share of the measured pixels a plane must hold to be a room surface.
+    pub min_share: f32,
+    /// Inlier tolerance in inverse depth (1/m); the Kinect's raw noise is about 0.0015 1/m there.
+    pub tol_inv_m: f32,
+    /// Largest share of foreground among the shadow seeds on a plane.
+    pub max_fg_share: f32,
+    /// Fewest background shadow seeds a plane must hold.
+    pub min_bg_seeds: usize,
+    /// RANSAC hypotheses per plane.
+    pub hypotheses: usize,
+}
+
+impl Default for PlaneParams {
+    fn default() -> Self {
+        PlaneParams { max_planes: 4, min_share: 0.06, tol_inv_m: 0.005, max_fg_share: 0.02, min_bg_seeds: 10, hypotheses: 150 }
+    }
+}
+
+/// Scratch for [`plane_seeds`], allocated once.
+#[derive(Clone, Debug, Default)]
+pub struct PlaneScratch {
+    /// Subsampled measured pixels: u, v, inverse depth (1/m).
+    samples: Vec<[f32; 3]>,
+}
+
+/// Grows background seeds over the room's surfaces: the background beyond Sa is a wall or a
+/// floor, and a wall or floor is a large plane. Planes are found by RANSAC in (u, v, 1/z) space
+/// (a 3-D plane is linear in inverse depth, so no calibration is needed); one counts as a room
+/// surface only if it is large, holds background shadow seeds and (almost) no foreground ones.
+/// Its measured pixels then become background seeds, its foreground seeds are dropped. This also
+/// reaches floor and wall parts no shadow touches (the floor before an object). Returns the
+/// number of planes used.
+pub fn plane_seeds(labels: &[u8], mm: &[u16], p: &PlaneParams, seeds: &mut [u8], s: &mut PlaneScratch) -> usize {
+    const STRIDE: usize = 4;
+    s.samples.clear();
+    for v in (0..labels.len() / WIDTH).step_by(STRIDE) {
+        for u in (0..WIDTH).step_by(STRIDE) {
+            let i = v * WIDTH + u;
+            if labels[i] == VALID && mm[i] > 0 {
+                s.samples.push([u as f32, v as f32, 1000.0 / f32::from(mm[i])]);
+            }
+        }
+    }
+    let total = s.samples.len();
+    let mut rng = 0x2545_f491u32;
+    let mut planes = 0;
+    for _ in 0..p.max_planes {
+        let n = s.samples.len();
+        if n < 3 || (n as f32) < p.min_share * total as f32 {
+            break;
+        }
+        let mut best: Option<([f32; 3], usize)> = None;
+        for _ in 0..p.hypotheses {
+            let pick = |rng: &mut u32| s.samples[(next(rng) as usize) % n];
+            let (a, b, c) = (pick(&mut rng), pick(&mut rng), pick(&mut rng));
+            let Some(pl) = plane_through(&a, &b, &c) else { continue };
+            let count = s.samples.iter().filter(|x| (x[2] - eval(&pl, x[0], x[1])).abs() < p.tol_inv_m).count();
+            if best.is_none_or_smaller(count) {
+                best = Some((pl, count));
+            }
+        }
+        let Some((pl, count)) = best else { break };
+        if (count as f32) < p.min_share * total as f32 {
+            break;
+        }
+        let on = |i: usize| labels[i] == VALID && mm[i] > 0 && {
+            let (u, v) = ((i % WIDTH) as f32, (i / WIDTH) as f32);
+            (1000.0 / f32::from(mm[i]) - eval(&pl, u, v)).abs() < p.tol_inv_m
+        };
+        let (mut fg, mut bg) = (0usize, 0usize);
+        for (i, &sd) in seeds.iter().enumerate() {
+            if sd != 0 && on(i) {
+                if sd == FG {
+                    fg += 1;
+                } else {
+                    bg += 1;
+                }
+            }
+        }
+        // Whatever the verdict, this plane's samples are done with.
+        s.samples.retain(|x| (x[2] - eval(&pl, x[0], x[1])).abs() >= p.tol_inv_m);
+        if bg < p.min_bg_seeds || fg as f32 > p.max_fg_share * (fg + bg) as f32 {
+            continue;
+        }
+        for (i, sd) in seeds.iter_mut().enumerate() {
+            if on(i) {
+                *sd = BG;
+            }
+        }
+        planes += 1;
+    }
+    planes
+}
+
+/// `None`-or-fewer test for the RANSAC best so far.
+trait BestCount {
+    fn is_none_or_smaller(&self, count: usize) -> bool;
+}
+
+impl BestCount for Option<([f32; 3], usize)> {
+    fn is_none_or_smaller(&self, count: usize) -> bool {
+        self.map_or(true, |(_, c)| count > c)
+    }
+}
+
+/// Inverse depth of plane `pl` at pixel (u, v): `a·u + b·v + c`.
+#[inline]
+fn eval(pl: &[f32; 3], u: f32, v: f32) -> f32 {
+    pl[0] * u + pl[1] * v + pl[2]
+}
+
+/// The plane `iz = a·u + b·v + c` through three samples; `None` if they are (nearly) collinear.
+fn plane_through(p: &[f32; 3], q: &[f32; 3], r: &[f32; 3]) -> Option<[f32; 3]> {
+    let (du1, dv1, dz1) = (q[0] - p[0], q[1] - p[1], q[2] - p[2]);
+    let (du2, dv2, dz2) = (r[0] - p[0], r[1] - p[1], r[2] - p[2]);
+    let det = du1 * dv2 - du2 * dv1;
+    if det.abs() < 100.0 {
+        return None; // the three pixels span less than a 10×10 px triangle's worth
+    }
+    let a = (dz1 * dv2 - dz2 * dv1) / det;
+    let b = (du1 * dz2 - du2 * dz1) / det;
+    Some([a, b, p[2] - a * p[0] - b * p[1]])
+}
+
+/// xorshift32 for the RANSAC draws (deterministic).
+fn next(state: &mut u32) -> u32 {
+    *state ^= *state << 13;
+    *state ^= *state >> 17;
+    *state ^= *state << 5;
+    *state
+}
