@@ -108,8 +108,6 @@ pub struct Segmenter {
     features: Vec<Point>,
     seeds: Vec<u8>,
     fg_side: Vec<bool>,
-    comp_fg: Vec<u8>,
-    comp_bg: Vec<u8>,
     right: Vec<i32>,
     down: Vec<i32>,
     flow: GridFlow,
@@ -134,8 +132,6 @@ impl Segmenter {
             features: vec![[0.0; 4]; PIXELS],
             seeds: vec![0; PIXELS],
             fg_side: vec![false; PIXELS],
-            comp_fg: vec![0; PIXELS],
-            comp_bg: vec![0; PIXELS],
             right: vec![0; PIXELS],
             down: vec![0; PIXELS],
             flow,
@@ -283,26 +279,25 @@ impl Segmenter {
         }
     }
 
-    /// One graph cut with the current mixtures; seeds are hard constraints.
+    /// One graph cut with the current mixtures; seeds are hard constraints, so the mixtures are
+    /// only evaluated on unseeded pixels.
     fn cut(&mut self) {
         let flow = &mut self.flow;
         flow.reset(WIDTH, HEIGHT);
         for p in 0..PIXELS {
-            let x = &self.features[p];
-            let (mut cf, kf) = self.fg.cost(x, EMPTY_COST);
-            if x[3] == 0.0 {
-                // No depth: foreground is anything the background does not explain (a uniform
-                // outlier colour model), so black and glossy objects that no seed reaches stand
-                // out against the room's colours.
-                cf = cf.min(UNIFORM_COLOUR_COST);
-            }
-            let (cb, kb) = self.bg.cost(x, EMPTY_COST);
-            self.comp_fg[p] = kf;
-            self.comp_bg[p] = kb;
             match self.seeds[p] {
                 FG => flow.set_terminals(p, HARD, 0),
                 BG => flow.set_terminals(p, 0, HARD),
                 _ => {
+                    let x = &self.features[p];
+                    let (mut cf, _) = self.fg.cost(x, EMPTY_COST);
+                    if x[3] == 0.0 {
+                        // No depth: foreground is anything the background does not explain (a
+                        // uniform outlier colour model), so black and glossy objects that no seed
+                        // reaches stand out against the room's colours.
+                        cf = cf.min(UNIFORM_COLOUR_COST);
+                    }
+                    let (cb, _) = self.bg.cost(x, EMPTY_COST);
                     // Source side = foreground: ending on the sink side costs the bg cost.
                     let d = (cb - cf).clamp(-MAX_COST, MAX_COST);
                     let (src, snk) = if d > 0.0 { (d, 0.0) } else { (0.0, -d) };
@@ -322,15 +317,21 @@ impl Segmenter {
         }
     }
 
-    /// GrabCut's re-estimation: every pixel joins the best component of its side's mixture.
+    /// GrabCut's re-estimation: pixels join the best component of their side's mixture, and the
+    /// mixtures are refitted. Every other pixel in a checkerboard is enough for the statistics.
     fn refit(&mut self) {
         self.stats_fg.clear();
         self.stats_bg.clear();
-        for p in 0..PIXELS {
-            if self.fg_side[p] {
-                self.stats_fg.add(self.comp_fg[p] as usize, &self.features[p]);
-            } else {
-                self.stats_bg.add(self.comp_bg[p] as usize, &self.features[p]);
+        for v in 0..HEIGHT {
+            for p in (v * WIDTH + (v & 1)..(v + 1) * WIDTH).step_by(2) {
+                let x = &self.features[p];
+                if self.fg_side[p] {
+                    let (_, k) = self.fg.cost(x, EMPTY_COST);
+                    self.stats_fg.add(k as usize, x);
+                } else {
+                    let (_, k) = self.bg.cost(x, EMPTY_COST);
+                    self.stats_bg.add(k as usize, x);
+                }
             }
         }
         self.fg.fit(&self.stats_fg);
