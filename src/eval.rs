@@ -4,8 +4,9 @@
 //!
 //! Foreground masks (SPEC §6) are scored too: [`MaskCounts`], [`SegTally`], [`SegReport`].
 //!
-//! The scoring core ([`Confusion`], [`Score`], [`Report`], and the segmentation scores) is pure; [`read_category`] is the only
-//! I/O here (label PNGs are read and written by [`crate::sink::labels`]).
+//! The scoring core ([`Confusion`], [`Score`], [`Report`], and the segmentation scores) is pure;
+//! [`read_category`] is the only I/O here (label PNGs are read and written by
+//! [`crate::sink::labels`], masks by [`crate::segment::files`]).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -719,6 +720,37 @@ mod tests {
             .collect();
         assert_eq!(widths.len(), 1 + 4 + 5);
         assert!(widths.iter().all(|&w| w == widths[0]), "{table}");
+    }
+
+    #[test]
+    fn mask_scores_by_hand_and_best_pair() {
+        // gt fg at 0..4, predicted fg at 2..6: tp 2, fp 2, fn 2 → IoU 1/3, F 1/2.
+        let gt = [255, 255, 255, 255, 0, 0, 0, 0];
+        let pr = [0, 0, 255, 255, 255, 255, 0, 0];
+        let m = MaskCounts::of(&gt, &pr);
+        assert_eq!((m.tp, m.fp, m.fn_), (2, 2, 2));
+        assert!((m.iou() - 1.0 / 3.0).abs() < 1e-12 && (m.f_measure() - 0.5).abs() < 1e-12);
+        assert_eq!(MaskCounts::of(&[0, 0], &[0, 0]).iou(), 1.0);
+        // Seeds: fg seed on gt fg (right), bg seed on gt fg (wrong), bg seed on gt bg (right).
+        let seeds = [1, 2, 0, 0, 0, 0, 2, 9];
+        let mut t = SegTally::default();
+        t.add_frame(&gt, &pr, &seeds, 1, 2);
+        assert_eq!((t.seeds, t.seeds_right), (3, 2));
+        let mut r = SegReport::new(vec![(1.0, 2.0), (2.0, 3.0)]);
+        let perfect = {
+            let mut t = SegTally::default();
+            t.add_frame(&gt, &gt, &seeds, 1, 2);
+            t
+        };
+        r.add_recording("a", Some(Category::Simple), t, vec![t, perfect]);
+        r.add_recording("b", Some(Category::Complex), perfect, vec![t, t]);
+        // Pair 1: mean IoU (1 + 1/3) / 2 beats pair 0's 1/3.
+        assert_eq!(r.best_pair(), Some(1));
+        let g = r.groups();
+        assert_eq!(g.iter().map(|g| g.0).collect::<Vec<_>>(), ["all", "simple", "complex"]);
+        assert!((g[1].2.mean_iou().unwrap() - 1.0).abs() < 1e-12 && (g[2].1.mean_iou().unwrap() - 1.0).abs() < 1e-12);
+        let table = r.to_table();
+        assert!(table.contains("Tf 2.00 m, Tb 3.00 m") && !table.contains("NaN"), "{table}");
     }
 
     #[test]
