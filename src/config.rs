@@ -27,6 +27,18 @@ pub struct Config {
     /// `[mcap]`: the MCAP segments `umbra run` writes.
     #[serde(default)]
     pub mcap: McapConfig,
+    /// `[foreground]`: shadow-seeded foreground masks in the daemon.
+    #[serde(default)]
+    pub foreground: ForegroundConfig,
+}
+
+/// `[foreground]` keys.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct ForegroundConfig {
+    /// Foreground masks per second on `/umbra/foreground_mask`; 0 turns them off. Masks are made
+    /// on a thread of their own that skips frames while busy, so labels never wait for them.
+    pub rate_hz: f64,
 }
 
 /// `[run]` keys; the command-line flags of the same names override them.
@@ -193,6 +205,8 @@ impl Config {
         check((1..=19).contains(&m.zstd_level), "mcap.zstd_level", m.zstd_level as f64, "between 1 and 19")?;
         check((0.0..=3600.0).contains(&m.sync_interval_s), "mcap.sync_interval_s", m.sync_interval_s, "between 0 and 3600 seconds")?;
         check((0.0..=3600.0).contains(&m.retry_interval_s), "mcap.retry_interval_s", m.retry_interval_s, "between 0 and 3600 seconds")?;
+        let f = &c.foreground;
+        check((0.0..=30.0).contains(&f.rate_hz), "foreground.rate_hz", f.rate_hz, "between 0 (off) and 30 per second")?;
         Ok(c)
     }
 
@@ -204,7 +218,7 @@ impl Config {
             segment_age: Duration::from_secs_f64(m.segment_s),
             total_cap_bytes: m.total_cap_mib << 20,
             write_rgb: m.rgb,
-            write_foreground: false,
+            write_foreground: self.foreground.rate_hz > 0.0,
             zstd_level: m.zstd_level,
             retry_interval: Duration::from_secs_f64(m.retry_interval_s),
             sync_interval: (m.sync_interval_s > 0.0).then(|| Duration::from_secs_f64(m.sync_interval_s)),
@@ -238,10 +252,10 @@ mod tests {
         let c = Config::from_toml_str(text, Path::new("config/umbra.toml")).unwrap();
         assert_eq!(c.params(), Params::default(), "config/umbra.toml documents the defaults");
         let d = Config::default();
-        assert_eq!((&c.run, &c.device, &c.mcap), (&d.run, &d.device, &d.mcap), "config/umbra.toml documents the defaults");
+        assert_eq!((&c.run, &c.device, &c.mcap, &c.foreground), (&d.run, &d.device, &d.mcap, &d.foreground), "config/umbra.toml documents the defaults");
         // Every key is written out (commented out only where there is no default), so the file
         // stays a complete reference: a key added to the code must be added there too.
-        for key in ["source", "out", "export_labels", "calibration", "fast", "status_interval_s", "stall_timeout_s", "reconnect_initial_s", "reconnect_max_s", "segment_mib", "segment_s", "total_cap_mib", "rgb", "zstd_level", "sync_interval_s", "retry_interval_s"] {
+        for key in ["source", "out", "export_labels", "calibration", "fast", "status_interval_s", "stall_timeout_s", "reconnect_initial_s", "reconnect_max_s", "segment_mib", "segment_s", "total_cap_mib", "rgb", "zstd_level", "sync_interval_s", "retry_interval_s", "rate_hz"] {
             assert!(text.lines().any(|l| l.trim_start_matches("# ").starts_with(&format!("{key} ="))), "config/umbra.toml lacks {key}");
         }
     }

@@ -183,3 +183,36 @@ fn the_service_unit_is_hardened_and_systemd_accepts_it() {
     let ours: Vec<&str> = stderr.lines().filter(|l| l.contains("umbra@")).collect();
     assert!(out.status.success() && ours.is_empty(), "systemd-analyze verify: {stderr}");
 }
+
+#[test]
+fn foreground_masks_in_the_daemon_match_the_ground_truth() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = tmp.path().join("u.toml");
+    std::fs::write(&cfg, "[foreground]\nrate_hz = 30.0\n").unwrap();
+    let out = tmp.path().join("out");
+    let rec = bundled("box-before-wall");
+    let (ok, _, stderr) = run(&["run", "--config", &s(&cfg), "--source", &format!("replay:{rec}"), "--out", &s(&out)]);
+    assert!(ok, "{stderr}");
+    let seg = std::fs::read_dir(&out).unwrap().next().unwrap().unwrap().path();
+    let bytes = std::fs::read(seg).unwrap();
+    let mut masks = 0;
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        if m.channel.topic != "/umbra/foreground_mask" {
+            continue;
+        }
+        masks += 1;
+        let (h, pixels) = umbra::sink::mcap::ros2::decode_image(&m.data).unwrap();
+        assert_eq!((h.encoding, h.width, h.height), ("mono8", 640, 480));
+        // The simulator's exact mask of the same frame (independent of the segmenter).
+        let gt = image::open(format!("{rec}/../ground-truth/box-before-wall/{:06}.fg.png", m.sequence)).unwrap().to_luma8();
+        let (mut inter, mut union) = (0u32, 0u32);
+        for (&p, &g) in pixels.iter().zip(gt.as_raw()) {
+            inter += u32::from(p == 255 && g == 255);
+            union += u32::from(p == 255 || g == 255);
+        }
+        let iou = f64::from(inter) / f64::from(union.max(1));
+        assert!(iou >= 0.9, "frame {}: IoU {iou:.3} with the ground-truth mask", m.sequence);
+    }
+    assert!(masks >= 1, "no foreground mask written");
+}

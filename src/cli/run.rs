@@ -28,6 +28,7 @@ use crate::pipeline::{self, Options, Stats, Telemetry};
 use crate::recording::Recording;
 use crate::service::{self, Extra, Reporter};
 use crate::sink::mcap::McapSink;
+use crate::sink::foreground::WithForeground;
 use crate::sink::{LabelExport, Sink, Tolerant};
 
 /// Arguments of `umbra run`. Flags override the `[run]` keys of the config file.
@@ -193,7 +194,8 @@ pub fn run(a: Args) -> Result<()> {
             let rec = Recording::open(dir)?;
             let calib = *rec.calibration();
             info!(frames = rec.len(), passes = a.repeat, realtime = !fast, "replaying {}", dir.display());
-            let replay = ReplaySource::new(rec, mcap_opts.write_rgb).repeat(a.repeat);
+            // Foreground masks are made in the RGB view: they need the colour image too.
+            let replay = ReplaySource::new(rec, mcap_opts.write_rgb || mcap_opts.write_foreground).repeat(a.repeat);
             (Box::new(Paced::new(replay, stop.clone(), !fast)), calib)
         }
     };
@@ -201,7 +203,14 @@ pub fn run(a: Args) -> Result<()> {
 
     let mcap = McapSink::create(&out, mcap_opts)?;
     let mcap_counters = mcap.counters();
-    let mut sinks: Vec<Box<dyn Sink>> = vec![Box::new(mcap)];
+    let rate_hz = config.foreground.rate_hz;
+    let mut sinks: Vec<Box<dyn Sink>> = if rate_hz > 0.0 {
+        info!(rate_hz, "foreground masks on {}", crate::sink::mcap::topics::FOREGROUND_MASK);
+        let segmenter = crate::segment::Segmenter::new(crate::segment::Params::default());
+        vec![Box::new(WithForeground::new(mcap, Box::new(segmenter), rate_hz))]
+    } else {
+        vec![Box::new(mcap)]
+    };
     if let Some(dir) = &export_labels {
         let labels = Tolerant::new(LabelExport::create(dir)?, "label PNGs");
         let lost = labels.lost_counter();

@@ -28,6 +28,17 @@ pub trait MaskMaker: Send {
     fn make(&mut self, frame: &Frame, mask: &mut [u8]) -> Result<()>;
 }
 
+/// The paper's §4 segmentation: shadow seeds, GrabCut on colour and depth.
+impl MaskMaker for crate::segment::Segmenter {
+    fn make(&mut self, frame: &Frame, mask: &mut [u8]) -> Result<()> {
+        if !frame.has_rgb {
+            return Err(crate::error::Error::Usage(format!("frame {} has no RGB image paired with it", frame.seq)));
+        }
+        self.segment(&frame.rgb, &frame.labels, mask);
+        Ok(())
+    }
+}
+
 /// A finished mask on its way to the writer.
 struct Done {
     seq: u64,
