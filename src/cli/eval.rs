@@ -213,9 +213,12 @@ fn plan(a: &Args) -> Result<Vec<Job>> {
         .collect()
 }
 
+/// One recording's segmentation scores: shadow seeds, and one tally per threshold pair.
+type SegScores = (SegTally, Vec<SegTally>);
+
 /// Classifies every frame of one recording and counts it against ground truth; with `seg`, also
 /// segments it and scores the masks.
-fn score(job: &Job, params: crate::classify::Params, mut seg: Option<&mut SegWork>, bar: &ProgressBar) -> Result<(Tally, Option<(SegTally, Vec<SegTally>)>)> {
+fn score(job: &Job, params: crate::classify::Params, mut seg: Option<&mut SegWork>, bar: &ProgressBar) -> Result<(Tally, Option<SegScores>)> {
     if let Some(dir) = &job.export {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating", e))?;
     }

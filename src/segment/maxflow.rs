@@ -422,8 +422,8 @@ mod tests {
     /// Cost of a cut: `side[p]` true = source side.
     fn cut_cost(pr: &Problem, side: &[bool]) -> i64 {
         let mut c = 0i64;
-        for p in 0..pr.w * pr.h {
-            c += i64::from(if side[p] { pr.snk[p] } else { pr.src[p] });
+        for ((&s, &src), &snk) in side.iter().zip(&pr.src).zip(&pr.snk) {
+            c += i64::from(if s { snk } else { src });
         }
         for &(p, k, fwd, rev) in &pr.edges {
             let q = if k == 0 { p + 1 } else { p + pr.w };

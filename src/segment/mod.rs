@@ -1,8 +1,15 @@
 //! Shadow-assisted automatic foreground segmentation (Deng et al., ICCVW 2013, §4): classified
 //! shadows say where object edges are and on which side the object lies, which gives
 //! foreground/background seeds with no clicks and no training ([`seeds`]); wrong seeds are
-//! rejected by k-means on depth and colour ([`kmeans`]); GrabCut with depth as a 4th channel
-//! ([`gmm`]) and a grid max-flow ([`maxflow`]) turn the seeds into a mask.
+//! rejected by k-means on depth and colour ([`kmeans`]); background seeds grow over the room
+//! surfaces (large planes) they lie on; GrabCut with depth as a 4th channel ([`gmm`]) and a grid
+//! max-flow ([`maxflow`]) turn the seeds into a mask. Pixels without depth are scored on colour,
+//! against a uniform outlier model for the foreground (black and glossy objects have no depth
+//! and often no seed, but do not look like the room).
+//!
+//! For the daemon: build one [`Segmenter`] per thread with [`Segmenter::new`] and call
+//! [`Segmenter::segment`]`(rgb, &classified, &mut mask)` per frame; it allocates nothing per frame
+//! after the first (the seed scratch vectors reach their size on the first frames).
 //!
 //! Everything runs in the RGB view on the colour image and the depth registered to it, and writes
 //! SPEC §6 masks (255 foreground, 0 background). [`Segmenter`] holds every buffer, so the daemon
@@ -55,8 +62,8 @@ pub struct Params {
     pub iterations: usize,
     /// Weight of the smoothness term (GrabCut: 50).
     pub gamma: f32,
-    /// Depth difference (cm) between neighbours that halves... the smoothness weight scale:
-    /// `exp(−Δd² / (2σ²))` joins the colour contrast term where both pixels have depth.
+    /// σ (cm) of the depth factor `exp(−Δd² / (2σ²))` that joins the colour contrast term of the
+    /// smoothness weight where both neighbours have depth: cuts are cheap across depth edges.
     pub depth_sigma_cm: f32,
 }
 

@@ -64,6 +64,7 @@ fn in_front(near: u16, far: u16, p: &SeedParams) -> bool {
 
 /// Marks seeds walking from edge pixel `edge` in direction `step` (±1) along row `row`, on the
 /// edge's surface: offsets `inset..inset + len`. Stops at a hole or a depth discontinuity.
+#[allow(clippy::too_many_arguments)] // one row's slices and one walk's geometry; a struct would only rename them
 fn walk(labels: &[u8], mm: &[u16], row: usize, edge: usize, step: isize, inset: usize, len: usize, code: u8, seeds: &mut [u8]) {
     let mut prev = mm[row + edge];
     for j in 1..inset + len {
