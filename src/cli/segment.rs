@@ -24,7 +24,7 @@ pub enum SeedsArg {
 /// --segment` on simulated scenes.
 pub const DEFAULT_TF_M: f32 = 2.0;
 /// Default Tb of the threshold baseline, metres.
-pub const DEFAULT_TB_M: f32 = 2.5;
+pub const DEFAULT_TB_M: f32 = 2.0;
 
 /// Arguments of `umbra segment`.
 #[derive(clap::Args, Debug)]
