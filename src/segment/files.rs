@@ -1,9 +1,8 @@
 //! SPEC §6 mask files and overlay pictures: the I/O edge of segmentation.
 
-use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
-use image::{ImageDecoder, ImageEncoder};
+use image::ImageEncoder;
 
 use super::{BG, FG};
 use crate::error::{Error, Result};
@@ -28,24 +27,7 @@ pub fn write_mask_png(path: &Path, mask: &[u8], buf: &mut Vec<u8>) -> Result<()>
 
 /// Reads a SPEC §6 mask (640×480, 8-bit grey, every value 0 or 255) into `out`.
 pub fn read_mask_png(path: &Path, out: &mut [u8]) -> Result<()> {
-    assert_eq!(out.len(), PIXELS, "a mask has 640x480 pixels");
-    let file = match std::fs::File::open(path) {
-        Ok(f) => f,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return Err(Error::input(path, "", "missing: ground truth needs a foreground mask <i>.fg.png for every depth frame (umbra synth writes them)"))
-        }
-        Err(e) => return Err(Error::io(path, "reading", e)),
-    };
-    let bad_png = |e: image::ImageError| Error::input(path, "", format!("not a readable 8-bit grey PNG: {e}"));
-    let dec = image::codecs::png::PngDecoder::new(BufReader::new(file)).map_err(bad_png)?;
-    let (w, h) = dec.dimensions();
-    if (w as usize, h as usize) != (WIDTH, HEIGHT) {
-        return Err(Error::input(path, "header", format!("size {w}x{h} is wrong, expected {WIDTH}x{HEIGHT}")));
-    }
-    if dec.color_type() != image::ColorType::L8 {
-        return Err(Error::input(path, "header", format!("colour type {:?} is wrong, expected 8-bit grey (L8)", dec.color_type())));
-    }
-    dec.read_image(out).map_err(bad_png)?;
+    crate::sink::labels::read_grey_png(path, out, "missing: ground truth needs a foreground mask <i>.fg.png for every depth frame (umbra synth writes them)", "with 0 or 255 per pixel")?;
     if let Some(i) = out.iter().position(|&v| v != 0 && v != 255) {
         return Err(Error::input(
             path,

@@ -16,12 +16,24 @@ pub fn label_path(dir: &Path, frame: usize, view: &str) -> PathBuf {
 
 /// Reads a SPEC §4 label PNG (640×480, 8-bit grey, values 0–4) into `out` (640·480 codes).
 pub fn read_label_png(path: &Path, out: &mut [u8]) -> Result<()> {
-    assert_eq!(out.len(), PIXELS, "a label frame has 640x480 codes");
+    read_grey_png(path, out, "missing: ground truth needs a label PNG for every depth frame", "with one label code per pixel")?;
+    if let Some(i) = out.iter().position(|&v| v as usize >= CLASSES) {
+        return Err(Error::input(
+            path,
+            format!("pixel ({}, {})", i % WIDTH, i / WIDTH),
+            format!("value {} is not a label code, expected 0-{} (SPEC §2)", out[i], CLASSES - 1),
+        ));
+    }
+    Ok(())
+}
+
+/// Reads a 640×480 8-bit grey PNG into `out` (640·480 bytes). `missing` is the problem reported
+/// when the file does not exist; `what` ends the message for a wrong colour type.
+pub fn read_grey_png(path: &Path, out: &mut [u8], missing: &str, what: &str) -> Result<()> {
+    assert_eq!(out.len(), PIXELS, "a 640x480 frame");
     let file = match std::fs::File::open(path) {
         Ok(f) => f,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return Err(Error::input(path, "", "missing: ground truth needs a label PNG for every depth frame"))
-        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(Error::input(path, "", missing)),
         Err(e) => return Err(Error::io(path, "reading", e)),
     };
     let bad_png = |e: image::ImageError| Error::input(path, "", format!("not a readable 8-bit grey PNG: {e}"));
@@ -31,21 +43,9 @@ pub fn read_label_png(path: &Path, out: &mut [u8]) -> Result<()> {
         return Err(Error::input(path, "header", format!("size {w}x{h} is wrong, expected {WIDTH}x{HEIGHT}")));
     }
     if dec.color_type() != image::ColorType::L8 {
-        return Err(Error::input(
-            path,
-            "header",
-            format!("colour type {:?} is wrong, expected 8-bit grey (L8) with one label code per pixel", dec.color_type()),
-        ));
+        return Err(Error::input(path, "header", format!("colour type {:?} is wrong, expected 8-bit grey (L8) {what}", dec.color_type())));
     }
-    dec.read_image(out).map_err(bad_png)?;
-    if let Some(i) = out.iter().position(|&v| v as usize >= CLASSES) {
-        return Err(Error::input(
-            path,
-            format!("pixel ({}, {})", i % WIDTH, i / WIDTH),
-            format!("value {} is not a label code, expected 0-{} (SPEC §2)", out[i], CLASSES - 1),
-        ));
-    }
-    Ok(())
+    dec.read_image(out).map_err(bad_png)
 }
 
 /// Writes labels as a SPEC §4 PNG. The file appears whole or not at all: it is written beside
