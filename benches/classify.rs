@@ -12,7 +12,12 @@ use umbra::Calibration;
 fn busy_frame(c: &Calibration) -> Vec<u16> {
     let raw = |z: f64| c.raw_from_depth(z).round() as u16;
     let mut f = vec![raw(3.0); PIXELS];
-    let objects = [(100, 220, 60, 400, 1.2), (300, 330, 0, 480, 1.0), (420, 560, 200, 420, 1.8), (600, 606, 50, 300, 1.5)];
+    let objects = [
+        (100, 220, 60, 400, 1.2),
+        (300, 330, 0, 480, 1.0),
+        (420, 560, 200, 420, 1.8),
+        (600, 606, 50, 300, 1.5),
+    ];
     for &(u0, u1, v0, v1, z) in &objects {
         let w = (c.fb() * (1.0 / z - 1.0 / 3.0)).round() as usize;
         for v in v0..v1 {
@@ -61,26 +66,50 @@ fn bench(c: &mut Criterion) {
     let mut frames = vec![("synthetic_busy", busy_frame(&calib), calib)];
     let root = env!("CARGO_MANIFEST_DIR");
     // The bundled simulated room, and the real NYU frame when the shared data is beside the repo.
-    for (name, dir) in [("complex_room", format!("{root}/recordings/complex-room")), ("nyu_basement_real", format!("{root}/../shared/data/nyu-basement"))] {
+    for (name, dir) in [
+        ("complex_room", format!("{root}/recordings/complex-room")),
+        (
+            "nyu_basement_real",
+            format!("{root}/../shared/data/nyu-basement"),
+        ),
+    ] {
         if let Some((raw, cal)) = recorded(&dir) {
             frames.push((name, raw, cal));
         }
     }
     let mut g = c.benchmark_group("frame_640x480");
     let mut copy = vec![0u16; PIXELS];
-    g.bench_function("plain_copy", |b| b.iter(|| copy.copy_from_slice(black_box(&frames[0].1))));
+    g.bench_function("plain_copy", |b| {
+        b.iter(|| copy.copy_from_slice(black_box(&frames[0].1)))
+    });
     for (name, frame, cal) in &frames {
         let mut classifier = Classifier::new(cal);
         let mut out = Classified::default();
-        g.bench_function(format!("classify_ir_align_rgb/{name}"), |b| b.iter(|| classifier.classify(black_box(frame), &mut out)));
+        g.bench_function(format!("classify_ir_align_rgb/{name}"), |b| {
+            b.iter(|| classifier.classify(black_box(frame), &mut out))
+        });
         let scan = umbra::classify::scanline::ScanParams::new(cal, &Default::default());
         let mut filled = vec![0u16; PIXELS];
         g.bench_function(format!("stage_scanline_ir/{name}"), |b| {
-            b.iter(|| umbra::classify::scanline::classify_frame(&scan, black_box(frame), &mut out.ir_labels, &mut filled))
+            b.iter(|| {
+                umbra::classify::scanline::classify_frame(
+                    &scan,
+                    black_box(frame),
+                    &mut out.ir_labels,
+                    &mut filled,
+                )
+            })
         });
         let mut warp = umbra::classify::align::Warp::new(cal);
         g.bench_function(format!("stage_warp_rgb/{name}"), |b| {
-            b.iter(|| warp.apply(black_box(&filled), &out.ir_labels, &mut out.rgb_labels, &mut out.registered_mm))
+            b.iter(|| {
+                warp.apply(
+                    black_box(&filled),
+                    &out.ir_labels,
+                    &mut out.rgb_labels,
+                    &mut out.registered_mm,
+                )
+            })
         });
     }
     g.finish();

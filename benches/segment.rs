@@ -16,7 +16,10 @@ fn frame(dir: &str) -> (Vec<u8>, Classified) {
     let mut raw = vec![0u16; PIXELS];
     let mut rgb = vec![0u8; 3 * PIXELS];
     rec.read_depth(0, &mut raw).expect("depth");
-    assert!(rec.read_rgb(0, &mut rgb).expect("rgb"), "bundled recordings have RGB");
+    assert!(
+        rec.read_rgb(0, &mut rgb).expect("rgb"),
+        "bundled recordings have RGB"
+    );
     let mut out = Classified::default();
     Classifier::new(rec.calibration()).classify(&raw, &mut out);
     (rgb, out)
@@ -30,9 +33,19 @@ fn bench(c: &mut Criterion) {
         let (rgb, classified) = frame(&format!("{root}/recordings/{name}"));
         let mut mask = vec![0u8; PIXELS];
         let mut seg = Segmenter::new(Params::default());
-        g.bench_function(format!("shadow_seeds/{name}"), |b| b.iter(|| seg.segment(black_box(&rgb), &classified, &mut mask)));
-        let mut seg = Segmenter::new(Params { seeds: SeedMode::Threshold { tf_m: 2.0, tb_m: 2.5 }, ..Params::default() });
-        g.bench_function(format!("threshold_seeds/{name}"), |b| b.iter(|| seg.segment(black_box(&rgb), &classified, &mut mask)));
+        g.bench_function(format!("shadow_seeds/{name}"), |b| {
+            b.iter(|| seg.segment(black_box(&rgb), &classified, &mut mask))
+        });
+        let mut seg = Segmenter::new(Params {
+            seeds: SeedMode::Threshold {
+                tf_m: 2.0,
+                tb_m: 2.5,
+            },
+            ..Params::default()
+        });
+        g.bench_function(format!("threshold_seeds/{name}"), |b| {
+            b.iter(|| seg.segment(black_box(&rgb), &classified, &mut mask))
+        });
     }
     g.finish();
 }

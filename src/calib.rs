@@ -90,13 +90,31 @@ impl Calibration {
     /// NYU Depth v2 Kinect v1 calibration, the default when a recording carries none (SPEC §3).
     pub fn nyu_default() -> Self {
         Calibration {
-            depth: Intrinsics { fx: 582.62, fy: 582.69, cx: 313.04, cy: 238.44, width: 640, height: 480 },
-            rgb: Intrinsics { fx: 518.86, fy: 519.47, cx: 325.58, cy: 253.74, width: 640, height: 480 },
+            depth: Intrinsics {
+                fx: 582.62,
+                fy: 582.69,
+                cx: 313.04,
+                cy: 238.44,
+                width: 640,
+                height: 480,
+            },
+            rgb: Intrinsics {
+                fx: 518.86,
+                fy: 519.47,
+                cx: 325.58,
+                cy: 253.74,
+                width: 640,
+                height: 480,
+            },
             depth_to_rgb: Extrinsics {
                 rotation: Matrix3::identity(),
                 translation: Vector3::new(-0.025, 0.0, 0.0),
             },
-            raw: RawModel { numerator: 351.3, denominator: 1092.5, baseline_m: 0.075 },
+            raw: RawModel {
+                numerator: 351.3,
+                denominator: 1092.5,
+                baseline_m: 0.075,
+            },
         }
     }
 
@@ -108,7 +126,8 @@ impl Calibration {
 
     /// Parses and validates calibration TOML; `path` is only used in error messages.
     pub fn from_toml_str(text: &str, path: &Path) -> Result<Self> {
-        let parsed: CalibrationToml = toml::from_str(text).map_err(|e| toml_error(path, text, &e))?;
+        let parsed: CalibrationToml =
+            toml::from_str(text).map_err(|e| toml_error(path, text, &e))?;
         let r = parsed.depth_to_rgb.rotation;
         let t = parsed.depth_to_rgb.translation;
         let calib = Calibration {
@@ -120,7 +139,9 @@ impl Calibration {
             },
             raw: parsed.raw,
         };
-        calib.validate().map_err(|(key, problem)| Error::input(path, format!("key {key}"), problem))?;
+        calib
+            .validate()
+            .map_err(|(key, problem)| Error::input(path, format!("key {key}"), problem))?;
         Ok(calib)
     }
 
@@ -132,7 +153,17 @@ impl Calibration {
             depth: self.depth,
             rgb: self.rgb,
             depth_to_rgb: ExtrinsicsToml {
-                rotation: [r[(0, 0)], r[(0, 1)], r[(0, 2)], r[(1, 0)], r[(1, 1)], r[(1, 2)], r[(2, 0)], r[(2, 1)], r[(2, 2)]],
+                rotation: [
+                    r[(0, 0)],
+                    r[(0, 1)],
+                    r[(0, 2)],
+                    r[(1, 0)],
+                    r[(1, 1)],
+                    r[(1, 2)],
+                    r[(2, 0)],
+                    r[(2, 1)],
+                    r[(2, 2)],
+                ],
                 translation: [t[0], t[1], t[2]],
             },
             raw: self.raw,
@@ -143,7 +174,12 @@ impl Calibration {
     /// Checks that every number is finite and physically plausible for a Kinect v1.
     /// On failure returns the offending key and what was expected.
     pub fn validate(&self) -> std::result::Result<(), (String, String)> {
-        fn check(ok: bool, key: &str, value: f64, want: &str) -> std::result::Result<(), (String, String)> {
+        fn check(
+            ok: bool,
+            key: &str,
+            value: f64,
+            want: &str,
+        ) -> std::result::Result<(), (String, String)> {
             if ok && value.is_finite() {
                 Ok(())
             } else {
@@ -157,29 +193,83 @@ impl Calibration {
                     format!("{}x{} is not supported, expected 640x480 (the only Kinect v1 mode umbra reads)", k.width, k.height),
                 ));
             }
-            check(k.fx > 50.0 && k.fx < 5000.0, &format!("{name}.fx"), k.fx, "a focal length in pixels between 50 and 5000")?;
-            check(k.fy > 50.0 && k.fy < 5000.0, &format!("{name}.fy"), k.fy, "a focal length in pixels between 50 and 5000")?;
-            check(k.cx >= 0.0 && k.cx <= k.width as f64, &format!("{name}.cx"), k.cx, "inside the image")?;
-            check(k.cy >= 0.0 && k.cy <= k.height as f64, &format!("{name}.cy"), k.cy, "inside the image")?;
+            check(
+                k.fx > 50.0 && k.fx < 5000.0,
+                &format!("{name}.fx"),
+                k.fx,
+                "a focal length in pixels between 50 and 5000",
+            )?;
+            check(
+                k.fy > 50.0 && k.fy < 5000.0,
+                &format!("{name}.fy"),
+                k.fy,
+                "a focal length in pixels between 50 and 5000",
+            )?;
+            check(
+                k.cx >= 0.0 && k.cx <= k.width as f64,
+                &format!("{name}.cx"),
+                k.cx,
+                "inside the image",
+            )?;
+            check(
+                k.cy >= 0.0 && k.cy <= k.height as f64,
+                &format!("{name}.cy"),
+                k.cy,
+                "inside the image",
+            )?;
             if (k.fx / k.fy - 1.0).abs() > 0.2 {
-                return Err((format!("{name}.fy"), format!("fx {} and fy {} differ by more than 20%", k.fx, k.fy)));
+                return Err((
+                    format!("{name}.fy"),
+                    format!("fx {} and fy {} differ by more than 20%", k.fx, k.fy),
+                ));
             }
         }
         let r = self.depth_to_rgb.rotation;
         for (i, v) in r.iter().enumerate() {
-            check(v.abs() <= 1.0 + 1e-6, &format!("depth_to_rgb.rotation[{i}]"), *v, "a rotation matrix entry in [-1, 1]")?;
+            check(
+                v.abs() <= 1.0 + 1e-6,
+                &format!("depth_to_rgb.rotation[{i}]"),
+                *v,
+                "a rotation matrix entry in [-1, 1]",
+            )?;
         }
         let orth = (r * r.transpose() - Matrix3::identity()).abs().max();
         if orth > 1e-3 || r.determinant() < 0.0 {
-            return Err(("depth_to_rgb.rotation".into(), format!("is not a proper rotation (|R·Rᵀ − I| = {orth:.2e}, det = {:.4})", r.determinant())));
+            return Err((
+                "depth_to_rgb.rotation".into(),
+                format!(
+                    "is not a proper rotation (|R·Rᵀ − I| = {orth:.2e}, det = {:.4})",
+                    r.determinant()
+                ),
+            ));
         }
         for (i, v) in self.depth_to_rgb.translation.iter().enumerate() {
-            check(v.abs() < 0.5, &format!("depth_to_rgb.translation[{i}]"), *v, "a translation in metres below 0.5")?;
+            check(
+                v.abs() < 0.5,
+                &format!("depth_to_rgb.translation[{i}]"),
+                *v,
+                "a translation in metres below 0.5",
+            )?;
         }
         let m = &self.raw;
-        check(m.numerator > 10.0 && m.numerator < 10_000.0, "raw.numerator", m.numerator, "between 10 and 10000")?;
-        check(m.denominator > 100.0 && m.denominator <= 4096.0, "raw.denominator", m.denominator, "between 100 and 4096")?;
-        check(m.baseline_m > 0.01 && m.baseline_m < 0.5, "raw.baseline_m", m.baseline_m, "a baseline in metres between 0.01 and 0.5")?;
+        check(
+            m.numerator > 10.0 && m.numerator < 10_000.0,
+            "raw.numerator",
+            m.numerator,
+            "between 10 and 10000",
+        )?;
+        check(
+            m.denominator > 100.0 && m.denominator <= 4096.0,
+            "raw.denominator",
+            m.denominator,
+            "between 100 and 4096",
+        )?;
+        check(
+            m.baseline_m > 0.01 && m.baseline_m < 0.5,
+            "raw.baseline_m",
+            m.baseline_m,
+            "a baseline in metres between 0.01 and 0.5",
+        )?;
         Ok(())
     }
 
@@ -250,17 +340,27 @@ mod tests {
 
     #[test]
     fn bad_values_name_the_key() {
-        let c = Calibration::nyu_default().to_toml_string().replace("fx = 582.62", "fx = nan");
-        let e = Calibration::from_toml_str(&c, Path::new("cal.toml")).unwrap_err().to_string();
+        let c = Calibration::nyu_default()
+            .to_toml_string()
+            .replace("fx = 582.62", "fx = nan");
+        let e = Calibration::from_toml_str(&c, Path::new("cal.toml"))
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("cal.toml: key depth.fx:"), "{e}");
-        let c = Calibration::nyu_default().to_toml_string().replace("baseline_m = 0.075", "baseline_m = 7.5");
-        let e = Calibration::from_toml_str(&c, Path::new("cal.toml")).unwrap_err().to_string();
+        let c = Calibration::nyu_default()
+            .to_toml_string()
+            .replace("baseline_m = 0.075", "baseline_m = 7.5");
+        let e = Calibration::from_toml_str(&c, Path::new("cal.toml"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("raw.baseline_m"), "{e}");
     }
 
     #[test]
     fn syntax_errors_give_line_and_column() {
-        let e = Calibration::from_toml_str("[depth]\nfx = = 3\n", Path::new("c.toml")).unwrap_err().to_string();
+        let e = Calibration::from_toml_str("[depth]\nfx = = 3\n", Path::new("c.toml"))
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("c.toml: line 2, column"), "{e}");
         assert!(!e.contains('\n'));
     }

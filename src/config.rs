@@ -61,7 +61,14 @@ pub struct RunConfig {
 
 impl Default for RunConfig {
     fn default() -> Self {
-        RunConfig { source: "kinect".into(), out: None, export_labels: None, calibration: None, fast: false, status_interval_s: 60.0 }
+        RunConfig {
+            source: "kinect".into(),
+            out: None,
+            export_labels: None,
+            calibration: None,
+            fast: false,
+            status_interval_s: 60.0,
+        }
     }
 }
 
@@ -80,7 +87,11 @@ pub struct DeviceConfig {
 impl Default for DeviceConfig {
     fn default() -> Self {
         let b = Backoff::default();
-        DeviceConfig { stall_timeout_s: 5.0, reconnect_initial_s: b.initial.as_secs_f64(), reconnect_max_s: b.max.as_secs_f64() }
+        DeviceConfig {
+            stall_timeout_s: 5.0,
+            reconnect_initial_s: b.initial.as_secs_f64(),
+            reconnect_max_s: b.max.as_secs_f64(),
+        }
     }
 }
 
@@ -159,39 +170,98 @@ impl Config {
 
     /// Parses and validates configuration TOML; `path` is only used in error messages.
     pub fn from_toml_str(text: &str, path: &Path) -> Result<Self> {
-        let c: Config = toml::from_str(text).map_err(|e| crate::calib::toml_error(path, text, &e))?;
+        let c: Config =
+            toml::from_str(text).map_err(|e| crate::calib::toml_error(path, text, &e))?;
         let k = &c.classifier;
         let check = |ok: bool, key: &str, v: f64, want: &str| {
             if ok && v.is_finite() {
                 Ok(())
             } else {
-                Err(Error::input(path, format!("key classifier.{key}"), format!("value {v} is not {want}")))
+                Err(Error::input(
+                    path,
+                    format!("key classifier.{key}"),
+                    format!("value {v} is not {want}"),
+                ))
             }
         };
-        check((0.25..=10.0).contains(&k.min_step_px), "min_step_px", k.min_step_px, "between 0.25 and 10")?;
-        check((0.0..=50.0).contains(&k.attached_over_px), "attached_over_px", k.attached_over_px, "between 0 and 50")?;
-        check((0.0..=20.0).contains(&k.detached_tol_px), "detached_tol_px", k.detached_tol_px, "between 0 and 20")?;
-        check(k.max_island_px <= 10, "max_island_px", k.max_island_px as f64, "between 0 and 10")?;
+        check(
+            (0.25..=10.0).contains(&k.min_step_px),
+            "min_step_px",
+            k.min_step_px,
+            "between 0.25 and 10",
+        )?;
+        check(
+            (0.0..=50.0).contains(&k.attached_over_px),
+            "attached_over_px",
+            k.attached_over_px,
+            "between 0 and 50",
+        )?;
+        check(
+            (0.0..=20.0).contains(&k.detached_tol_px),
+            "detached_tol_px",
+            k.detached_tol_px,
+            "between 0 and 20",
+        )?;
+        check(
+            k.max_island_px <= 10,
+            "max_island_px",
+            k.max_island_px as f64,
+            "between 0 and 10",
+        )?;
         let check = |ok: bool, key: &str, v: f64, want: &str| {
             if ok && v.is_finite() {
                 Ok(())
             } else {
-                Err(Error::input(path, format!("key {key}"), format!("value {v} is not {want}")))
+                Err(Error::input(
+                    path,
+                    format!("key {key}"),
+                    format!("value {v} is not {want}"),
+                ))
             }
         };
         let r = &c.run;
-        check((0.1..=86_400.0).contains(&r.status_interval_s), "run.status_interval_s", r.status_interval_s, "between 0.1 and 86400 seconds")?;
+        check(
+            (0.1..=86_400.0).contains(&r.status_interval_s),
+            "run.status_interval_s",
+            r.status_interval_s,
+            "between 0.1 and 86400 seconds",
+        )?;
         if r.source.parse::<crate::cli::run::SourceSpec>().is_err() {
-            return Err(Error::input(path, "key run.source", format!("{:?} is not kinect, kinect:INDEX, kinect:SERIAL or replay:DIR", r.source)));
+            return Err(Error::input(
+                path,
+                "key run.source",
+                format!(
+                    "{:?} is not kinect, kinect:INDEX, kinect:SERIAL or replay:DIR",
+                    r.source
+                ),
+            ));
         }
-        for (key, v) in [("run.out", &r.out), ("run.export_labels", &r.export_labels), ("run.calibration", &r.calibration)] {
+        for (key, v) in [
+            ("run.out", &r.out),
+            ("run.export_labels", &r.export_labels),
+            ("run.calibration", &r.calibration),
+        ] {
             if v.as_ref().is_some_and(|p| p.as_os_str().is_empty()) {
-                return Err(Error::input(path, format!("key {key}"), "is empty: give a path or leave the key out"));
+                return Err(Error::input(
+                    path,
+                    format!("key {key}"),
+                    "is empty: give a path or leave the key out",
+                ));
             }
         }
         let d = &c.device;
-        check((0.1..=3600.0).contains(&d.stall_timeout_s), "device.stall_timeout_s", d.stall_timeout_s, "between 0.1 and 3600 seconds")?;
-        check((0.01..=3600.0).contains(&d.reconnect_initial_s), "device.reconnect_initial_s", d.reconnect_initial_s, "between 0.01 and 3600 seconds")?;
+        check(
+            (0.1..=3600.0).contains(&d.stall_timeout_s),
+            "device.stall_timeout_s",
+            d.stall_timeout_s,
+            "between 0.1 and 3600 seconds",
+        )?;
+        check(
+            (0.01..=3600.0).contains(&d.reconnect_initial_s),
+            "device.reconnect_initial_s",
+            d.reconnect_initial_s,
+            "between 0.01 and 3600 seconds",
+        )?;
         check(
             (d.reconnect_initial_s..=3600.0).contains(&d.reconnect_max_s),
             "device.reconnect_max_s",
@@ -199,14 +269,49 @@ impl Config {
             "between device.reconnect_initial_s and 3600 seconds",
         )?;
         let m = &c.mcap;
-        check((1..=1 << 20).contains(&m.segment_mib), "mcap.segment_mib", m.segment_mib as f64, "between 1 and 1048576")?;
-        check((1.0..=7.0 * 86_400.0).contains(&m.segment_s), "mcap.segment_s", m.segment_s, "between 1 second and a week")?;
-        check(m.total_cap_mib >= m.segment_mib, "mcap.total_cap_mib", m.total_cap_mib as f64, "at least mcap.segment_mib")?;
-        check((1..=19).contains(&m.zstd_level), "mcap.zstd_level", m.zstd_level as f64, "between 1 and 19")?;
-        check((0.0..=3600.0).contains(&m.sync_interval_s), "mcap.sync_interval_s", m.sync_interval_s, "between 0 and 3600 seconds")?;
-        check((0.0..=3600.0).contains(&m.retry_interval_s), "mcap.retry_interval_s", m.retry_interval_s, "between 0 and 3600 seconds")?;
+        check(
+            (1..=1 << 20).contains(&m.segment_mib),
+            "mcap.segment_mib",
+            m.segment_mib as f64,
+            "between 1 and 1048576",
+        )?;
+        check(
+            (1.0..=7.0 * 86_400.0).contains(&m.segment_s),
+            "mcap.segment_s",
+            m.segment_s,
+            "between 1 second and a week",
+        )?;
+        check(
+            m.total_cap_mib >= m.segment_mib,
+            "mcap.total_cap_mib",
+            m.total_cap_mib as f64,
+            "at least mcap.segment_mib",
+        )?;
+        check(
+            (1..=19).contains(&m.zstd_level),
+            "mcap.zstd_level",
+            m.zstd_level as f64,
+            "between 1 and 19",
+        )?;
+        check(
+            (0.0..=3600.0).contains(&m.sync_interval_s),
+            "mcap.sync_interval_s",
+            m.sync_interval_s,
+            "between 0 and 3600 seconds",
+        )?;
+        check(
+            (0.0..=3600.0).contains(&m.retry_interval_s),
+            "mcap.retry_interval_s",
+            m.retry_interval_s,
+            "between 0 and 3600 seconds",
+        )?;
         let f = &c.foreground;
-        check((0.0..=30.0).contains(&f.rate_hz), "foreground.rate_hz", f.rate_hz, "between 0 (off) and 30 per second")?;
+        check(
+            (0.0..=30.0).contains(&f.rate_hz),
+            "foreground.rate_hz",
+            f.rate_hz,
+            "between 0 (off) and 30 per second",
+        )?;
         Ok(c)
     }
 
@@ -221,13 +326,17 @@ impl Config {
             write_foreground: self.foreground.rate_hz > 0.0,
             zstd_level: m.zstd_level,
             retry_interval: Duration::from_secs_f64(m.retry_interval_s),
-            sync_interval: (m.sync_interval_s > 0.0).then(|| Duration::from_secs_f64(m.sync_interval_s)),
+            sync_interval: (m.sync_interval_s > 0.0)
+                .then(|| Duration::from_secs_f64(m.sync_interval_s)),
         }
     }
 
     /// How a lost device is reopened.
     pub fn backoff(&self) -> Backoff {
-        Backoff { initial: Duration::from_secs_f64(self.device.reconnect_initial_s), max: Duration::from_secs_f64(self.device.reconnect_max_s) }
+        Backoff {
+            initial: Duration::from_secs_f64(self.device.reconnect_initial_s),
+            max: Duration::from_secs_f64(self.device.reconnect_max_s),
+        }
     }
 
     /// The classifier thresholds.
@@ -250,21 +359,61 @@ mod tests {
     fn shipped_config_matches_built_in_defaults() {
         let text = include_str!("../config/umbra.toml");
         let c = Config::from_toml_str(text, Path::new("config/umbra.toml")).unwrap();
-        assert_eq!(c.params(), Params::default(), "config/umbra.toml documents the defaults");
+        assert_eq!(
+            c.params(),
+            Params::default(),
+            "config/umbra.toml documents the defaults"
+        );
         let d = Config::default();
-        assert_eq!((&c.run, &c.device, &c.mcap, &c.foreground), (&d.run, &d.device, &d.mcap, &d.foreground), "config/umbra.toml documents the defaults");
+        assert_eq!(
+            (&c.run, &c.device, &c.mcap, &c.foreground),
+            (&d.run, &d.device, &d.mcap, &d.foreground),
+            "config/umbra.toml documents the defaults"
+        );
         // Every key is written out (commented out only where there is no default), so the file
         // stays a complete reference: a key added to the code must be added there too.
-        for key in ["source", "out", "export_labels", "calibration", "fast", "status_interval_s", "stall_timeout_s", "reconnect_initial_s", "reconnect_max_s", "segment_mib", "segment_s", "total_cap_mib", "rgb", "zstd_level", "sync_interval_s", "retry_interval_s", "rate_hz"] {
-            assert!(text.lines().any(|l| l.trim_start_matches("# ").starts_with(&format!("{key} ="))), "config/umbra.toml lacks {key}");
+        for key in [
+            "source",
+            "out",
+            "export_labels",
+            "calibration",
+            "fast",
+            "status_interval_s",
+            "stall_timeout_s",
+            "reconnect_initial_s",
+            "reconnect_max_s",
+            "segment_mib",
+            "segment_s",
+            "total_cap_mib",
+            "rgb",
+            "zstd_level",
+            "sync_interval_s",
+            "retry_interval_s",
+            "rate_hz",
+        ] {
+            assert!(
+                text.lines()
+                    .any(|l| l.trim_start_matches("# ").starts_with(&format!("{key} ="))),
+                "config/umbra.toml lacks {key}"
+            );
         }
     }
 
     #[test]
     fn errors_name_key_and_line() {
-        let e = Config::from_toml_str("[classifier]\nmin_step_px = -1\n", Path::new("u.toml")).unwrap_err().to_string();
-        assert!(e.starts_with("u.toml: key classifier.min_step_px: value -1"), "{e}");
-        let e = Config::from_toml_str("[classifier]\nmin_stp_px = 1\n", Path::new("u.toml")).unwrap_err().to_string();
-        assert!(e.starts_with("u.toml: line 2, column 1") && e.contains("min_stp_px"), "{e}");
+        let e = Config::from_toml_str("[classifier]\nmin_step_px = -1\n", Path::new("u.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("u.toml: key classifier.min_step_px: value -1"),
+            "{e}"
+        );
+        let e = Config::from_toml_str("[classifier]\nmin_stp_px = 1\n", Path::new("u.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("u.toml: line 2, column 1") && e.contains("min_stp_px"),
+            "{e}"
+        );
     }
 }

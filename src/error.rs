@@ -34,27 +34,57 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 impl Error {
     /// Builds an [`Error::Input`].
-    pub fn input(path: impl AsRef<Path>, place: impl Into<String>, problem: impl Into<String>) -> Self {
-        Error::Input { path: path.as_ref().to_path_buf(), place: place.into(), problem: problem.into() }
+    pub fn input(
+        path: impl AsRef<Path>,
+        place: impl Into<String>,
+        problem: impl Into<String>,
+    ) -> Self {
+        Error::Input {
+            path: path.as_ref().to_path_buf(),
+            place: place.into(),
+            problem: problem.into(),
+        }
     }
 
     /// Builds an [`Error::Io`].
     pub fn io(path: impl AsRef<Path>, action: &'static str, source: std::io::Error) -> Self {
-        Error::Io { path: path.as_ref().to_path_buf(), action, source }
+        Error::Io {
+            path: path.as_ref().to_path_buf(),
+            action,
+            source,
+        }
     }
 }
 
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Error::Input { path, place, problem } if place.is_empty() => {
+            Error::Input {
+                path,
+                place,
+                problem,
+            } if place.is_empty() => {
                 write!(f, "{}: {}", path.display(), one_line(problem))
             }
-            Error::Input { path, place, problem } => {
+            Error::Input {
+                path,
+                place,
+                problem,
+            } => {
                 write!(f, "{}: {}: {}", path.display(), place, one_line(problem))
             }
-            Error::Io { path, action, source } => {
-                write!(f, "{}: {} failed: {}", path.display(), action, one_line(&source.to_string()))
+            Error::Io {
+                path,
+                action,
+                source,
+            } => {
+                write!(
+                    f,
+                    "{}: {} failed: {}",
+                    path.display(),
+                    action,
+                    one_line(&source.to_string())
+                )
             }
             Error::Usage(msg) => write!(f, "{}", one_line(msg)),
         }

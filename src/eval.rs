@@ -48,7 +48,11 @@ impl Confusion {
 
     /// Pixels labelled `gt` in ground truth and `pred` by the classifier.
     pub fn get(&self, gt: u8, pred: u8) -> u64 {
-        self.counts.get(gt as usize).and_then(|r| r.get(pred as usize)).copied().unwrap_or(0)
+        self.counts
+            .get(gt as usize)
+            .and_then(|r| r.get(pred as usize))
+            .copied()
+            .unwrap_or(0)
     }
 
     /// The full matrix, `[gt][pred]`.
@@ -221,7 +225,12 @@ pub struct Report {
 
 impl Report {
     /// Adds one recording's tally under its name and category (`None`: no `meta.toml`).
-    pub fn add_recording(&mut self, name: impl Into<String>, category: Option<Category>, tally: Tally) {
+    pub fn add_recording(
+        &mut self,
+        name: impl Into<String>,
+        category: Option<Category>,
+        tally: Tally,
+    ) {
         self.recordings.push((name.into(), category, tally));
     }
 
@@ -246,10 +255,25 @@ impl Report {
         let mut s = String::new();
         let n = self.recordings.len();
         let frames: u64 = self.recordings.iter().map(|r| r.2.frames).sum();
-        let _ = writeln!(s, "{n} recording{}, {frames} frame{}", plural(n as u64), plural(frames));
+        let _ = writeln!(
+            s,
+            "{n} recording{}, {frames} frame{}",
+            plural(n as u64),
+            plural(frames)
+        );
         for (name, tally) in self.groups() {
-            let recs = self.recordings.iter().filter(|r| name == "all" || r.1.map(Category::name) == Some(name)).count();
-            let _ = writeln!(s, "\n{name}: {recs} recording{}, {} frame{}", plural(recs as u64), tally.frames, plural(tally.frames));
+            let recs = self
+                .recordings
+                .iter()
+                .filter(|r| name == "all" || r.1.map(Category::name) == Some(name))
+                .count();
+            let _ = writeln!(
+                s,
+                "\n{name}: {recs} recording{}, {} frame{}",
+                plural(recs as u64),
+                tally.frames,
+                plural(tally.frames)
+            );
             let _ = writeln!(
                 s,
                 "{:<5} {:<11} {:>9} {:>9} {:>9} {:>12} {:>12}",
@@ -257,7 +281,10 @@ impl Report {
             );
             for v in View::ALL {
                 let m = tally.view(v);
-                let rows = v.classes().iter().map(|&c| (labels::NAMES[c as usize], m.class(c)));
+                let rows = v
+                    .classes()
+                    .iter()
+                    .map(|&c| (labels::NAMES[c as usize], m.class(c)));
                 for (class, sc) in rows.chain([("any shadow", m.any_shadow())]) {
                     let _ = writeln!(
                         s,
@@ -300,17 +327,37 @@ impl Report {
         }
         let view = |m: &Confusion, v: View| ViewJson {
             pixels: m.total(),
-            classes: v.classes().iter().map(|&c| (labels::NAMES[c as usize], m.class(c))).collect(),
+            classes: v
+                .classes()
+                .iter()
+                .map(|&c| (labels::NAMES[c as usize], m.class(c)))
+                .collect(),
             any_shadow: m.any_shadow(),
             confusion: *m.counts(),
         };
         let groups: BTreeMap<&str, GroupJson> = self
             .groups()
             .into_iter()
-            .map(|(name, t)| (name, GroupJson { frames: t.frames, ir: view(&t.ir, View::Ir), rgb: view(&t.rgb, View::Rgb) }))
+            .map(|(name, t)| {
+                (
+                    name,
+                    GroupJson {
+                        frames: t.frames,
+                        ir: view(&t.ir, View::Ir),
+                        rgb: view(&t.rgb, View::Rgb),
+                    },
+                )
+            })
             .collect();
-        let recs: Vec<RecJson> =
-            self.recordings.iter().map(|(n, c, t)| RecJson { name: n, category: *c, frames: t.frames }).collect();
+        let recs: Vec<RecJson> = self
+            .recordings
+            .iter()
+            .map(|(n, c, t)| RecJson {
+                name: n,
+                category: *c,
+                frames: t.frames,
+            })
+            .collect();
         serde_json::json!({ "recordings": recs, "groups": groups })
     }
 }
@@ -432,13 +479,27 @@ pub struct SegReport {
 impl SegReport {
     /// An empty report over the threshold pairs `pairs`.
     pub fn new(pairs: Vec<(f32, f32)>) -> Self {
-        SegReport { pairs, recordings: Vec::new() }
+        SegReport {
+            pairs,
+            recordings: Vec::new(),
+        }
     }
 
     /// Adds one recording: its shadow-seed tally and one threshold tally per pair (same order).
-    pub fn add_recording(&mut self, name: impl Into<String>, category: Option<Category>, shadow: SegTally, threshold: Vec<SegTally>) {
-        assert_eq!(threshold.len(), self.pairs.len(), "one threshold tally per pair");
-        self.recordings.push((name.into(), category, shadow, threshold));
+    pub fn add_recording(
+        &mut self,
+        name: impl Into<String>,
+        category: Option<Category>,
+        shadow: SegTally,
+        threshold: Vec<SegTally>,
+    ) {
+        assert_eq!(
+            threshold.len(),
+            self.pairs.len(),
+            "one threshold tally per pair"
+        );
+        self.recordings
+            .push((name.into(), category, shadow, threshold));
     }
 
     /// The index of the single best fixed pair for the whole benchmark: highest mean IoU over all
@@ -459,7 +520,8 @@ impl SegReport {
     /// Groups in report order (`all`, then each category): shadow tally and best-pair tally.
     pub fn groups(&self) -> Vec<(&'static str, SegTally, SegTally)> {
         let best = self.best_pair();
-        let mut out: Vec<(&'static str, SegTally, SegTally)> = vec![("all", SegTally::default(), SegTally::default())];
+        let mut out: Vec<(&'static str, SegTally, SegTally)> =
+            vec![("all", SegTally::default(), SegTally::default())];
         for (_, cat, shadow, thr) in &self.recordings {
             let b = best.map(|k| thr[k]).unwrap_or_default();
             for name in ["all"].into_iter().chain(cat.map(Category::name)) {
@@ -498,7 +560,11 @@ impl SegReport {
                 let _ = writeln!(s, "\nsegmentation: no threshold pair tried");
             }
         }
-        let _ = writeln!(s, "{:<8} {:<10} {:>7} {:>9} {:>9} {:>14}", "group", "seeds", "frames", "mean IoU", "mean F", "seed precision");
+        let _ = writeln!(
+            s,
+            "{:<8} {:<10} {:>7} {:>9} {:>9} {:>14}",
+            "group", "seeds", "frames", "mean IoU", "mean F", "seed precision"
+        );
         for (name, shadow, thr) in self.groups() {
             for (label, t) in [("shadow", shadow), ("threshold", thr)] {
                 let _ = writeln!(
@@ -530,7 +596,12 @@ impl SegReport {
         let groups: serde_json::Map<String, serde_json::Value> = self
             .groups()
             .iter()
-            .map(|(n, sh, th)| (n.to_string(), serde_json::json!({ "shadow": one(sh), "threshold": one(th) })))
+            .map(|(n, sh, th)| {
+                (
+                    n.to_string(),
+                    serde_json::json!({ "shadow": one(sh), "threshold": one(th) }),
+                )
+            })
             .collect();
         let grid: Vec<serde_json::Value> = (0..self.pairs.len())
             .map(|k| {
@@ -541,7 +612,9 @@ impl SegReport {
                 serde_json::json!({ "tf_m": self.pairs[k].0, "tb_m": self.pairs[k].1, "mean_iou": all.mean_iou() })
             })
             .collect();
-        let best = self.best_pair().map(|k| serde_json::json!({ "tf_m": self.pairs[k].0, "tb_m": self.pairs[k].1 }));
+        let best = self
+            .best_pair()
+            .map(|k| serde_json::json!({ "tf_m": self.pairs[k].0, "tb_m": self.pairs[k].1 }));
         serde_json::json!({ "best_threshold": best, "groups": groups, "threshold_grid": grid })
     }
 }
@@ -573,12 +646,17 @@ pub fn read_category(path: &Path) -> Result<Option<Category>> {
 /// Parses the `category` key of `meta.toml` text; `path` is only used in error messages.
 pub fn parse_category(text: &str, path: &Path) -> Result<Option<Category>> {
     // A syntax error names its line and column (SPEC §5), like calibration.toml's.
-    let table: toml::Table = toml::from_str(text).map_err(|e| crate::calib::toml_error(path, text, &e))?;
+    let table: toml::Table =
+        toml::from_str(text).map_err(|e| crate::calib::toml_error(path, text, &e))?;
     match table.get("category") {
         None => Ok(None),
         Some(toml::Value::String(s)) if s == "simple" => Ok(Some(Category::Simple)),
         Some(toml::Value::String(s)) if s == "complex" => Ok(Some(Category::Complex)),
-        Some(v) => Err(Error::input(path, "key category", format!("value {v} is wrong, expected \"simple\" or \"complex\""))),
+        Some(v) => Err(Error::input(
+            path,
+            "key category",
+            format!("value {v} is wrong, expected \"simple\" or \"complex\""),
+        )),
     }
 }
 
@@ -699,9 +777,17 @@ mod tests {
         assert!(close(g[1].1.ir.class(A).recall, 1.0));
         assert!(close(g[2].1.rgb.class(A).recall, 0.0));
         let j = r.to_json();
-        assert_eq!(j["groups"]["simple"]["ir"]["classes"]["attached"]["recall"], 1.0);
-        assert_eq!(j["groups"]["all"]["rgb"]["classes"]["detached"]["precision"], 1.0);
-        assert!(j["groups"]["all"]["ir"]["classes"].get("alignment").is_none());
+        assert_eq!(
+            j["groups"]["simple"]["ir"]["classes"]["attached"]["recall"],
+            1.0
+        );
+        assert_eq!(
+            j["groups"]["all"]["rgb"]["classes"]["detached"]["precision"],
+            1.0
+        );
+        assert!(j["groups"]["all"]["ir"]["classes"]
+            .get("alignment")
+            .is_none());
         assert_eq!(j["recordings"][1]["category"], "complex");
         let t = r.to_table();
         assert!(t.starts_with("3 recordings, 3 frames"), "{t}");
@@ -715,7 +801,9 @@ mod tests {
         t.add_frame(&[A, V], &[A, A], &[G, V], &[V, G]);
         r.add_recording("x", None, t);
         let table = r.to_table();
-        let widths: Vec<usize> = table.lines().filter(|l| l.starts_with("ir ") || l.starts_with("rgb ") || l.starts_with("view"))
+        let widths: Vec<usize> = table
+            .lines()
+            .filter(|l| l.starts_with("ir ") || l.starts_with("rgb ") || l.starts_with("view"))
             .map(|l| l.chars().count())
             .collect();
         assert_eq!(widths.len(), 1 + 4 + 5);
@@ -747,21 +835,44 @@ mod tests {
         // Pair 1: mean IoU (1 + 1/3) / 2 beats pair 0's 1/3.
         assert_eq!(r.best_pair(), Some(1));
         let g = r.groups();
-        assert_eq!(g.iter().map(|g| g.0).collect::<Vec<_>>(), ["all", "simple", "complex"]);
-        assert!((g[1].2.mean_iou().unwrap() - 1.0).abs() < 1e-12 && (g[2].1.mean_iou().unwrap() - 1.0).abs() < 1e-12);
+        assert_eq!(
+            g.iter().map(|g| g.0).collect::<Vec<_>>(),
+            ["all", "simple", "complex"]
+        );
+        assert!(
+            (g[1].2.mean_iou().unwrap() - 1.0).abs() < 1e-12
+                && (g[2].1.mean_iou().unwrap() - 1.0).abs() < 1e-12
+        );
         let table = r.to_table();
-        assert!(table.contains("Tf 2.00 m, Tb 3.00 m") && !table.contains("NaN"), "{table}");
+        assert!(
+            table.contains("Tf 2.00 m, Tb 3.00 m") && !table.contains("NaN"),
+            "{table}"
+        );
     }
 
     #[test]
     fn meta_category() {
         let p = Path::new("meta.toml");
-        assert_eq!(parse_category("category = \"simple\"\nseed = 3\n", p).unwrap(), Some(Category::Simple));
-        assert_eq!(parse_category("category = \"complex\"", p).unwrap(), Some(Category::Complex));
+        assert_eq!(
+            parse_category("category = \"simple\"\nseed = 3\n", p).unwrap(),
+            Some(Category::Simple)
+        );
+        assert_eq!(
+            parse_category("category = \"complex\"", p).unwrap(),
+            Some(Category::Complex)
+        );
         assert_eq!(parse_category("seed = 3", p).unwrap(), None);
-        let e = parse_category("category = \"hard\"", p).unwrap_err().to_string();
-        assert!(e.starts_with("meta.toml: key category:") && e.contains("simple"), "{e}");
+        let e = parse_category("category = \"hard\"", p)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("meta.toml: key category:") && e.contains("simple"),
+            "{e}"
+        );
         assert!(parse_category("category = ", p).is_err());
-        assert_eq!(read_category(Path::new("/nonexistent/meta.toml")).unwrap(), None);
+        assert_eq!(
+            read_category(Path::new("/nonexistent/meta.toml")).unwrap(),
+            None
+        );
     }
 }

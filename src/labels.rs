@@ -27,8 +27,13 @@ pub const CLASSES: usize = 5;
 pub const NAMES: [&str; CLASSES] = ["valid", "attached", "detached", "alignment", "other"];
 
 /// Picture colours of the paper's Fig. 1, indexed by code; `VALID` is drawn grey by depth instead.
-pub const COLOURS: [[u8; 3]; CLASSES] =
-    [[128, 128, 128], [255, 0, 0], [0, 0, 255], [0, 255, 0], [255, 255, 0]];
+pub const COLOURS: [[u8; 3]; CLASSES] = [
+    [128, 128, 128],
+    [255, 0, 0],
+    [0, 0, 255],
+    [0, 255, 0],
+    [255, 255, 0],
+];
 
 /// True for the three shadow classes (the paper's "any shadow" of Table 1).
 pub fn is_shadow(code: u8) -> bool {
@@ -42,6 +47,9 @@ pub fn histogram(labels: &[u8]) -> [u64; CLASSES] {
     // Counting into a u8 per 255-byte chunk lets the compiler use 16 byte lanes per instruction.
     std::array::from_fn(|c| {
         let c = c as u8;
-        labels.chunks(255).map(|ch| u64::from(ch.iter().fold(0u8, |n, &l| n + u8::from(l == c)))).sum()
+        labels
+            .chunks(255)
+            .map(|ch| u64::from(ch.iter().fold(0u8, |n, &l| n + u8::from(l == c))))
+            .sum()
     })
 }

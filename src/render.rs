@@ -24,7 +24,11 @@ pub const PANELS: u32 = 3;
 /// Strip-coloured gap between panels, so that their edges do not run into each other.
 pub const GAP: u32 = 8;
 /// Titles of the three panels, left to right.
-pub const TITLES: [&str; PANELS as usize] = ["RGB", "IR view: labels over depth", "RGB view: labels over colour"];
+pub const TITLES: [&str; PANELS as usize] = [
+    "RGB",
+    "IR view: labels over depth",
+    "RGB view: labels over colour",
+];
 
 /// Background of the title and legend strips.
 const STRIP: Rgb<u8> = Rgb([24, 24, 24]);
@@ -50,9 +54,18 @@ pub fn panel_origin(k: u32) -> (u32, u32) {
 /// `rgb` is the paired colour frame (640·480·3 bytes) or `None`; `raw` the 11-bit depth map the
 /// labels in `classified` came from. Slices of the wrong length are treated as missing data
 /// (black) rather than a panic.
-pub fn render_panels(rgb: Option<&[u8]>, raw: &[u16], calib: &Calibration, classified: &Classified) -> RgbImage {
+pub fn render_panels(
+    rgb: Option<&[u8]>,
+    raw: &[u16],
+    calib: &Calibration,
+    classified: &Classified,
+) -> RgbImage {
     let (w, h) = (WIDTH as u32, HEIGHT as u32);
-    let mut img = RgbImage::from_pixel(PANELS * w + (PANELS - 1) * GAP, TITLE_HEIGHT + h + LEGEND_HEIGHT, STRIP);
+    let mut img = RgbImage::from_pixel(
+        PANELS * w + (PANELS - 1) * GAP,
+        TITLE_HEIGHT + h + LEGEND_HEIGHT,
+        STRIP,
+    );
     let (x1, x2) = (panel_origin(1).0, panel_origin(2).0);
     let rgb = rgb.filter(|c| c.len() == PIXELS * 3);
     let colour_at = |i: usize| rgb.map_or([0, 0, 0], |c| [c[3 * i], c[3 * i + 1], c[3 * i + 2]]);
@@ -60,7 +73,15 @@ pub fn render_panels(rgb: Option<&[u8]>, raw: &[u16], calib: &Calibration, class
     for i in 0..PIXELS {
         let (x, y) = ((i % WIDTH) as u32, (i / WIDTH) as u32 + TITLE_HEIGHT);
         // Panel 1: the colour image as it is.
-        img.put_pixel(x, y, if rgb.is_some() { Rgb(colour_at(i)) } else { NO_RGB });
+        img.put_pixel(
+            x,
+            y,
+            if rgb.is_some() {
+                Rgb(colour_at(i))
+            } else {
+                NO_RGB
+            },
+        );
         // Panel 2: IR-view labels; valid pixels grey by depth.
         let p2 = match classified.ir_labels.get(i) {
             Some(&VALID) => Rgb([depth_grey(calib, raw.get(i).copied()); 3]),
@@ -80,7 +101,13 @@ pub fn render_panels(rgb: Option<&[u8]>, raw: &[u16], calib: &Calibration, class
     if rgb.is_none() {
         let text = "no RGB";
         let tw = text.len() as u32 * CELL;
-        draw_text(&mut img, (w - tw) / 2, TITLE_HEIGHT + (h - CELL) / 2, text, INK);
+        draw_text(
+            &mut img,
+            (w - tw) / 2,
+            TITLE_HEIGHT + (h - CELL) / 2,
+            text,
+            INK,
+        );
     }
     for (k, title) in TITLES.iter().enumerate() {
         let (x0, _) = panel_origin(k as u32);
@@ -104,7 +131,11 @@ fn depth_grey(calib: &Calibration, raw: Option<u16>) -> u8 {
 
 fn blend(base: [u8; 3], top: [u8; 3], alpha: f32) -> [u8; 3] {
     let mix = |b: u8, t: u8| (f32::from(b) * (1.0 - alpha) + f32::from(t) * alpha).round() as u8;
-    [mix(base[0], top[0]), mix(base[1], top[1]), mix(base[2], top[2])]
+    [
+        mix(base[0], top[0]),
+        mix(base[1], top[1]),
+        mix(base[2], top[2]),
+    ]
 }
 
 /// One column per class: a swatch, the name, and the share of pixels in each view.
@@ -127,8 +158,18 @@ fn draw_legend(img: &mut RgbImage, classified: &Classified) {
         let tx = x0 + 2 * CELL + 12;
         draw_text(img, tx, top, name, INK);
         // Alignment shadows cannot exist in the IR view: say so rather than print 0.0%.
-        let ir_pct = if c == labels::ALIGNMENT as usize { "-".to_string() } else { pct(&ir, c) };
-        draw_text(img, tx, top + CELL + 8, &format!("IR {ir_pct}  RGB {}", pct(&rgb, c)), INK);
+        let ir_pct = if c == labels::ALIGNMENT as usize {
+            "-".to_string()
+        } else {
+            pct(&ir, c)
+        };
+        draw_text(
+            img,
+            tx,
+            top + CELL + 8,
+            &format!("IR {ir_pct}  RGB {}", pct(&rgb, c)),
+            INK,
+        );
     }
 }
 
@@ -144,14 +185,25 @@ fn fill_rect(img: &mut RgbImage, x0: u32, y0: u32, w: u32, h: u32, colour: Rgb<u
 /// anything past the image's edge is clipped.
 fn draw_text(img: &mut RgbImage, x: u32, y: u32, text: &str, colour: Rgb<u8>) {
     for (n, ch) in text.chars().enumerate() {
-        let code = if ch.is_ascii() { ch as usize } else { '?' as usize };
+        let code = if ch.is_ascii() {
+            ch as usize
+        } else {
+            '?' as usize
+        };
         let glyph = font8x8::legacy::BASIC_LEGACY[code];
         let gx = x + n as u32 * CELL;
         for (row, bits) in glyph.iter().enumerate() {
             for col in 0..8u32 {
                 // Bit 0 is the glyph's leftmost pixel.
                 if bits >> col & 1 == 1 {
-                    fill_rect(img, gx + col * SCALE, y + row as u32 * SCALE, SCALE, SCALE, colour);
+                    fill_rect(
+                        img,
+                        gx + col * SCALE,
+                        y + row as u32 * SCALE,
+                        SCALE,
+                        SCALE,
+                        colour,
+                    );
                 }
             }
         }
@@ -188,14 +240,20 @@ mod tests {
     fn ir_panel_uses_paper_colours_and_grey_by_depth() {
         let (raw, c) = frame();
         let img = render_panels(None, &raw, &Calibration::nyu_default(), &c);
-        assert_eq!(img.dimensions(), (3 * 640 + 2 * GAP, TITLE_HEIGHT + 480 + LEGEND_HEIGHT));
+        assert_eq!(
+            img.dimensions(),
+            (3 * 640 + 2 * GAP, TITLE_HEIGHT + 480 + LEGEND_HEIGHT)
+        );
         assert_eq!(at(&img, 1, 20, 100), [255, 0, 0]);
         assert_eq!(at(&img, 1, 21, 100), [0, 0, 255]);
         assert_eq!(at(&img, 1, 22, 100), [255, 255, 0]);
         let near = at(&img, 1, 10, 100);
         let far = at(&img, 1, 11, 100);
         assert!(near[0] == near[1] && near[1] == near[2], "{near:?} is grey");
-        assert!(near[0] > far[0] && far[0] >= FAR_GREY as u8, "near {near:?} brighter than far {far:?}");
+        assert!(
+            near[0] > far[0] && far[0] >= FAR_GREY as u8,
+            "near {near:?} brighter than far {far:?}"
+        );
     }
 
     #[test]
@@ -247,7 +305,11 @@ mod tests {
 
     #[test]
     fn short_buffers_do_not_panic() {
-        let c = Classified { ir_labels: vec![ATTACHED; 3], rgb_labels: vec![], registered_mm: vec![] };
+        let c = Classified {
+            ir_labels: vec![ATTACHED; 3],
+            rgb_labels: vec![],
+            registered_mm: vec![],
+        };
         let img = render_panels(Some(&[1, 2, 3]), &[], &Calibration::nyu_default(), &c);
         assert_eq!(at(&img, 1, 0, 0), [255, 0, 0]);
         assert_eq!(at(&img, 1, 5, 0), [0, 0, 0]);

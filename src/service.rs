@@ -84,7 +84,10 @@ impl Reporter {
     pub fn start(tel: Arc<Telemetry>, extra: Extra, log_every: Duration) -> Reporter {
         let done = Arc::new(AtomicBool::new(false));
         let d = done.clone();
-        let thread = std::thread::Builder::new().name("status".into()).spawn(move || report_loop(&tel, &extra, log_every, &d)).ok();
+        let thread = std::thread::Builder::new()
+            .name("status".into())
+            .spawn(move || report_loop(&tel, &extra, log_every, &d))
+            .ok();
         Reporter { done, thread }
     }
 }
@@ -101,7 +104,9 @@ impl Drop for Reporter {
 fn report_loop(tel: &Telemetry, extra: &Extra, log_every: Duration, done: &AtomicBool) {
     let watchdog = sd_notify::watchdog_enabled();
     // systemd recommends pinging at half the watchdog interval.
-    let tick = watchdog.map_or(Duration::from_secs(1), |w| (w / 2).min(Duration::from_secs(1)));
+    let tick = watchdog.map_or(Duration::from_secs(1), |w| {
+        (w / 2).min(Duration::from_secs(1))
+    });
     let stuck_after = watchdog.unwrap_or(Duration::from_secs(30));
     let mut last = (Instant::now(), tel.frames_written.load(Ordering::Relaxed));
     let mut last_log = Instant::now();
@@ -119,7 +124,10 @@ fn report_loop(tel: &Telemetry, extra: &Extra, log_every: Duration, done: &Atomi
             written,
             dropped: tel.frames_dropped.load(Ordering::Relaxed),
             lost: extra.lost.iter().map(|c| c()).sum(),
-            reconnects: extra.reconnects.as_ref().map_or(0, |c| c.load(Ordering::Relaxed)),
+            reconnects: extra
+                .reconnects
+                .as_ref()
+                .map_or(0, |c| c.load(Ordering::Relaxed)),
             p99_ms: tel.total_latency.quantile_ms(0.99),
             rss_mib: telemetry::resident_bytes() as f64 / (1 << 20) as f64,
         };
@@ -139,7 +147,11 @@ fn report_loop(tel: &Telemetry, extra: &Extra, log_every: Duration, done: &Atomi
             notify(&[status]);
         }
         if !healthy {
-            warn!(in_flight = tel.in_flight(), "pipeline stalled: no frame finished for {:?}", last_progress.elapsed());
+            warn!(
+                in_flight = tel.in_flight(),
+                "pipeline stalled: no frame finished for {:?}",
+                last_progress.elapsed()
+            );
         }
         if last_log.elapsed() >= log_every {
             last_log = now;
@@ -154,7 +166,18 @@ mod tests {
 
     #[test]
     fn status_line_reads_at_a_glance() {
-        let r = Report { fps: 29.97, written: 9000, dropped: 2, lost: 0, reconnects: 1, p99_ms: 4.06, rss_mib: 60.6 };
-        assert_eq!(r.line(), "30.0 fps, 2 dropped, 0 lost, p99 latency 4.1 ms, 9000 frames, 1 reconnects, 61 MiB");
+        let r = Report {
+            fps: 29.97,
+            written: 9000,
+            dropped: 2,
+            lost: 0,
+            reconnects: 1,
+            p99_ms: 4.06,
+            rss_mib: 60.6,
+        };
+        assert_eq!(
+            r.line(),
+            "30.0 fps, 2 dropped, 0 lost, p99 latency 4.1 ms, 9000 frames, 1 reconnects, 61 MiB"
+        );
     }
 }

@@ -8,7 +8,9 @@
 use umbra::classify::{Classified, Classifier};
 use umbra::eval::Confusion;
 use umbra::labels::{ALIGNMENT, ATTACHED, DETACHED, HEIGHT, OTHER, PIXELS, VALID, WIDTH};
-use umbra::synth::{random_scene, render_frame, sensor_for, Category, Scene, SensorModel, SynthFrame};
+use umbra::synth::{
+    random_scene, render_frame, sensor_for, Category, Scene, SensorModel, SynthFrame,
+};
 use umbra::Calibration;
 
 fn classify(calib: &Calibration, frame: &SynthFrame) -> Classified {
@@ -18,13 +20,21 @@ fn classify(calib: &Calibration, frame: &SynthFrame) -> Classified {
 }
 
 fn count_in_row(labels: &[u8], v: usize, code: u8) -> usize {
-    labels[v * WIDTH..(v + 1) * WIDTH].iter().filter(|&&l| l == code).count()
+    labels[v * WIDTH..(v + 1) * WIDTH]
+        .iter()
+        .filter(|&&l| l == code)
+        .count()
 }
 
 #[test]
 fn box_one_metre_before_wall_at_three() {
     let calib = Calibration::nyu_default();
-    let frame = render_frame(&Scene::box_before_wall(1.0, 3.0), &calib, &SensorModel::ideal(), 1);
+    let frame = render_frame(
+        &Scene::box_before_wall(1.0, 3.0),
+        &calib,
+        &SensorModel::ideal(),
+        1,
+    );
     let out = classify(&calib, &frame);
     // By hand: f·b·(1/1 − 1/3) = 582.62 · 0.075 · 2/3 = 29.13 px of attached shadow per row.
     let w = calib.fb() * (1.0 - 1.0 / 3.0);
@@ -40,7 +50,10 @@ fn box_one_metre_before_wall_at_three() {
             continue;
         }
         rows += 1;
-        assert!((n as f64 - w).abs() <= 1.0, "IR row {v}: {n} attached px, hand-computed {w:.2}");
+        assert!(
+            (n as f64 - w).abs() <= 1.0,
+            "IR row {v}: {n} attached px, hand-computed {w:.2}"
+        );
     }
     assert!(rows > 100, "the box spans {rows} rows");
     let mut rgb_rows = 0;
@@ -50,9 +63,15 @@ fn box_one_metre_before_wall_at_three() {
             continue;
         }
         rgb_rows += 1;
-        assert!((n as f64 - align).abs() <= 1.0, "RGB row {v}: {n} alignment px, hand-computed {align:.2}");
+        assert!(
+            (n as f64 - align).abs() <= 1.0,
+            "RGB row {v}: {n} alignment px, hand-computed {align:.2}"
+        );
         let s = count_in_row(&out.rgb_labels, v, ATTACHED) as f64;
-        assert!((s - shadow_rgb).abs() <= 1.5, "RGB row {v}: {s} attached px, hand-computed {shadow_rgb:.2}");
+        assert!(
+            (s - shadow_rgb).abs() <= 1.5,
+            "RGB row {v}: {s} attached px, hand-computed {shadow_rgb:.2}"
+        );
     }
     assert!(rgb_rows > 100);
     // And pixel for pixel against the simulator: the IR view is exact on this scene.
@@ -66,7 +85,12 @@ fn thin_rod_casts_detached_shadow_at_hand_computed_place() {
     let calib = Calibration::nyu_default();
     // A 2 cm rod at 1 m before a wall at 3 m: 2 cm < 7.5·(1 − 1/3) = 5 cm, so the shadow is
     // detached. Its image: rod columns [Fa, Fb] shifted left by w = f·b·(1 − 1/3) = 29.1 px.
-    let frame = render_frame(&Scene::rod_before_wall(0.0, 1.0, 0.01, 3.0), &calib, &SensorModel::ideal(), 2);
+    let frame = render_frame(
+        &Scene::rod_before_wall(0.0, 1.0, 0.01, 3.0),
+        &calib,
+        &SensorModel::ideal(),
+        2,
+    );
     let out = classify(&calib, &frame);
     let w = calib.fb() * (1.0 - 1.0 / 3.0);
     let rod_left = calib.depth.cx - 0.01 * calib.depth.fx; // ≈ 307.2
@@ -76,8 +100,16 @@ fn thin_rod_casts_detached_shadow_at_hand_computed_place() {
         let cols: Vec<usize> = (0..WIDTH).filter(|&u| row[u] == DETACHED).collect();
         assert!(!cols.is_empty(), "row {v}: no detached shadow");
         let (a, b) = (cols[0] as f64, *cols.last().unwrap() as f64);
-        assert!((a - (rod_left - w)).abs() <= 1.5 && (b - (rod_right - w)).abs() <= 1.5, "row {v}: detached {a}..{b}, hand {:.1}..{:.1}", rod_left - w, rod_right - w);
-        assert!(row.iter().all(|&l| l != ATTACHED), "row {v}: a detached shadow called attached");
+        assert!(
+            (a - (rod_left - w)).abs() <= 1.5 && (b - (rod_right - w)).abs() <= 1.5,
+            "row {v}: detached {a}..{b}, hand {:.1}..{:.1}",
+            rod_left - w,
+            rod_right - w
+        );
+        assert!(
+            row.iter().all(|&l| l != ATTACHED),
+            "row {v}: a detached shadow called attached"
+        );
     }
 }
 
@@ -88,7 +120,10 @@ fn holes_without_depth_edge_are_never_shadows() {
     let mut scene = Scene::box_before_wall(1.0, 3.0);
     scene.objects.retain(|o| o.kind == "wall");
     let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 3);
-    assert!(frame.raw.iter().filter(|&&r| r == 2047).count() > 100, "the noise model makes speckle");
+    assert!(
+        frame.raw.iter().filter(|&&r| r == 2047).count() > 100,
+        "the noise model makes speckle"
+    );
     let out = classify(&calib, &frame);
     assert!(out.ir_labels.iter().all(|&l| l == VALID || l == OTHER));
     assert!(out.rgb_labels.iter().all(|&l| l == VALID || l == OTHER));
@@ -120,7 +155,13 @@ fn at_least(c: &Confusion, code: Option<u8>, f1: f64, what: &str) {
         None => c.any_shadow(),
     };
     let got = s.f1.unwrap_or(0.0);
-    assert!(got >= f1, "{what}: F1 {got:.3} < {f1} (P {:?}, R {:?}, support {})", s.precision, s.recall, s.support);
+    assert!(
+        got >= f1,
+        "{what}: F1 {got:.3} < {f1} (P {:?}, R {:?}, support {})",
+        s.precision,
+        s.recall,
+        s.support
+    );
 }
 
 #[test]
@@ -129,14 +170,20 @@ fn simple_scenes_meet_the_issue_targets_in_the_ir_view() {
     at_least(&ir, Some(ATTACHED), 0.95, "IR attached");
     at_least(&ir, Some(DETACHED), 0.90, "IR detached");
     let any = ir.any_shadow();
-    assert!(any.precision.unwrap() >= 0.98 && any.recall.unwrap() >= 0.95, "IR any shadow {any:?}");
+    assert!(
+        any.precision.unwrap() >= 0.98 && any.recall.unwrap() >= 0.95,
+        "IR any shadow {any:?}"
+    );
     // RGB view: attached and detached meet 0.95/0.90; alignment strips of 1–2 px lose pixels to
     // edge quantisation (measured 0.91 on 40 scenes), so these are regression floors.
     at_least(&rgb, Some(ATTACHED), 0.93, "RGB attached");
     at_least(&rgb, Some(DETACHED), 0.90, "RGB detached");
     at_least(&rgb, Some(ALIGNMENT), 0.85, "RGB alignment");
     let any = rgb.any_shadow();
-    assert!(any.precision.unwrap() >= 0.96 && any.recall.unwrap() >= 0.92, "RGB any shadow {any:?}");
+    assert!(
+        any.precision.unwrap() >= 0.96 && any.recall.unwrap() >= 0.92,
+        "RGB any shadow {any:?}"
+    );
 }
 
 #[test]
@@ -147,6 +194,10 @@ fn complex_scenes_keep_shadow_precision() {
     let any = ir.any_shadow();
     assert!(any.precision.unwrap() >= 0.97, "IR any shadow {any:?}");
     assert!(any.recall.unwrap() >= 0.60, "IR any shadow {any:?}");
-    assert!(rgb.any_shadow().precision.unwrap() >= 0.88, "RGB any shadow {:?}", rgb.any_shadow());
+    assert!(
+        rgb.any_shadow().precision.unwrap() >= 0.88,
+        "RGB any shadow {:?}",
+        rgb.any_shadow()
+    );
     at_least(&ir, Some(OTHER), 0.93, "IR other");
 }

@@ -23,7 +23,10 @@ fn umbra(args: &[&str]) -> (bool, String) {
         .env_remove("RUST_LOG")
         .output()
         .expect("run the umbra binary");
-    (out.status.success(), String::from_utf8_lossy(&out.stderr).into_owned())
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 fn s(p: &Path) -> String {
@@ -40,7 +43,18 @@ impl Case {
     fn new() -> Self {
         let tmp = tempfile::tempdir().unwrap();
         let (rec, gt) = (tmp.path().join("rec"), tmp.path().join("gt"));
-        let (ok, err) = umbra(&["synth", &s(&rec), "--gt", &s(&gt), "--scene", "box", "--frames", "2", "--seed", "1"]);
+        let (ok, err) = umbra(&[
+            "synth",
+            &s(&rec),
+            "--gt",
+            &s(&gt),
+            "--scene",
+            "box",
+            "--frames",
+            "2",
+            "--seed",
+            "1",
+        ]);
         assert!(ok, "umbra synth failed: {err}");
         Case { tmp }
     }
@@ -60,7 +74,11 @@ impl Case {
     /// The recording's files of one stream (`"d-"` or `"r-"`), in INDEX.txt order.
     fn stream(&self, prefix: &str) -> Vec<PathBuf> {
         let index = std::fs::read_to_string(self.rec().join("INDEX.txt")).unwrap();
-        index.lines().filter(|l| l.starts_with(prefix)).map(|l| self.rec().join(l.trim())).collect()
+        index
+            .lines()
+            .filter(|l| l.starts_with(prefix))
+            .map(|l| self.rec().join(l.trim()))
+            .collect()
     }
 
     fn depth(&self, i: usize) -> PathBuf {
@@ -74,7 +92,10 @@ impl Case {
     /// Replaces the first `from` in the recording's calibration.toml by `to`.
     fn edit_calibration(&self, from: &str, to: &str) {
         let text = std::fs::read_to_string(self.calibration()).unwrap();
-        assert!(text.contains(from), "fixture changed: calibration.toml has no {from:?}:\n{text}");
+        assert!(
+            text.contains(from),
+            "fixture changed: calibration.toml has no {from:?}:\n{text}"
+        );
         std::fs::write(self.calibration(), text.replacen(from, to, 1)).unwrap();
     }
 
@@ -106,7 +127,10 @@ fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
         .unwrap()
         .map(|e| {
             let e = e.unwrap();
-            (e.file_name().to_string_lossy().into_owned(), read(&e.path()))
+            (
+                e.file_name().to_string_lossy().into_owned(),
+                read(&e.path()),
+            )
         })
         .collect();
     v.sort();
@@ -114,7 +138,10 @@ fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
 }
 
 fn write_gray_png(path: &Path, w: u32, h: u32, pixels: Vec<u8>) {
-    image::GrayImage::from_raw(w, h, pixels).unwrap().save(path).unwrap();
+    image::GrayImage::from_raw(w, h, pixels)
+        .unwrap()
+        .save(path)
+        .unwrap();
 }
 
 // ---------------------------------------------------------------- 1. recording folder, INDEX.txt
@@ -123,7 +150,10 @@ fn write_gray_png(path: &Path, w: u32, h: u32, pixels: Vec<u8>) {
 fn recording_folder_missing() {
     let c = Case::new();
     let nope = c.path("no-such-recording");
-    one_line_error(umbra(&["replay", &s(&nope)]), &[&s(&nope), "not a recording folder", "INDEX.txt"]);
+    one_line_error(
+        umbra(&["replay", &s(&nope)]),
+        &[&s(&nope), "not a recording folder", "INDEX.txt"],
+    );
 }
 
 #[test]
@@ -140,7 +170,15 @@ fn index_bad_line_names_the_line() {
     let text = std::fs::read_to_string(&index).unwrap();
     let line = text.lines().count() + 1;
     std::fs::write(&index, format!("{text}x-1-2.pgm\n")).unwrap();
-    one_line_error(c.replay(), &[&s(&index), &format!(": line {line}: "), "'x-1-2.pgm'", "d-<unix_time>-<device_ts>.pgm"]);
+    one_line_error(
+        c.replay(),
+        &[
+            &s(&index),
+            &format!(": line {line}: "),
+            "'x-1-2.pgm'",
+            "d-<unix_time>-<device_ts>.pgm",
+        ],
+    );
 }
 
 #[test]
@@ -153,7 +191,15 @@ fn index_naming_a_missing_file() {
     let name = gone.file_name().unwrap().to_str().unwrap().to_string();
     let line = text.lines().position(|l| l == name).unwrap() + 1;
     std::fs::remove_file(&gone).unwrap();
-    one_line_error(c.replay(), &[&s(&index), &format!(": line {line}: "), &name, "does not exist"]);
+    one_line_error(
+        c.replay(),
+        &[
+            &s(&index),
+            &format!(": line {line}: "),
+            &name,
+            "does not exist",
+        ],
+    );
 }
 
 #[test]
@@ -164,14 +210,22 @@ fn index_naming_a_folder() {
     let name = d.file_name().unwrap().to_str().unwrap().to_string();
     std::fs::remove_file(&d).unwrap();
     std::fs::create_dir(&d).unwrap();
-    one_line_error(c.replay(), &[&s(&index), ": line 1: ", &name, "is not a regular file"]);
+    one_line_error(
+        c.replay(),
+        &[&s(&index), ": line 1: ", &name, "is not a regular file"],
+    );
 }
 
 #[test]
 fn index_listing_no_depth_frame() {
     let c = Case::new();
     let index = c.rec().join("INDEX.txt");
-    let rgb_only: String = std::fs::read_to_string(&index).unwrap().lines().filter(|l| l.starts_with("r-")).map(|l| format!("{l}\n")).collect();
+    let rgb_only: String = std::fs::read_to_string(&index)
+        .unwrap()
+        .lines()
+        .filter(|l| l.starts_with("r-"))
+        .map(|l| format!("{l}\n"))
+        .collect();
     assert!(!rgb_only.is_empty());
     std::fs::write(&index, rgb_only).unwrap();
     one_line_error(c.replay(), &[&s(&index), "no depth frame"]);
@@ -197,7 +251,10 @@ fn depth_truncated() {
     let bytes = read(&d);
     let cut = bytes.len() - 1000;
     std::fs::write(&d, &bytes[..cut]).unwrap();
-    one_line_error(c.replay(), &[&s(&d), &format!("byte {cut}"), "truncated", "614400"]);
+    one_line_error(
+        c.replay(),
+        &[&s(&d), &format!("byte {cut}"), "truncated", "614400"],
+    );
 }
 
 #[test]
@@ -230,7 +287,16 @@ fn depth_sample_above_2047_names_the_pixel() {
     let at = DEPTH_HEADER.len() + 2 * (y * W + x);
     bytes[at..at + 2].copy_from_slice(&0x0900u16.to_le_bytes()); // 2304
     std::fs::write(&d, bytes).unwrap();
-    one_line_error(c.replay(), &[&s(&d), &format!("pixel ({x}, {y})"), &format!("byte {at}"), "2304", "2047"]);
+    one_line_error(
+        c.replay(),
+        &[
+            &s(&d),
+            &format!("pixel ({x}, {y})"),
+            &format!("byte {at}"),
+            "2304",
+            "2047",
+        ],
+    );
 }
 
 #[test]
@@ -245,7 +311,10 @@ fn depth_empty_or_bad_header() {
         std::fs::write(&d, bytes).unwrap();
         let mut all = vec![s(&d)];
         all.extend(needles.iter().map(|n| n.to_string()));
-        one_line_error(c.replay(), &all.iter().map(String::as_str).collect::<Vec<_>>());
+        one_line_error(
+            c.replay(),
+            &all.iter().map(String::as_str).collect::<Vec<_>>(),
+        );
     }
 }
 
@@ -257,7 +326,10 @@ fn depth_trailing_bytes() {
     let end = bytes.len();
     bytes.extend_from_slice(b"garbage");
     std::fs::write(&d, bytes).unwrap();
-    one_line_error(c.replay(), &[&s(&d), &format!("byte {end}"), "7 unexpected bytes"]);
+    one_line_error(
+        c.replay(),
+        &[&s(&d), &format!("byte {end}"), "7 unexpected bytes"],
+    );
 }
 
 // ---------------------------------------------------------------- 3. RGB PPM
@@ -270,8 +342,14 @@ fn rgb_truncated_seen_by_render() {
     let cut = bytes.len() - 1000;
     std::fs::write(&r, &bytes[..cut]).unwrap();
     let out = c.path("x.png");
-    one_line_error(umbra(&["render", &s(&c.rec()), "--frame", "0", "--out", &s(&out)]), &[&s(&r), &format!("byte {cut}"), "truncated", "921600"]);
-    assert!(!out.exists(), "a failed render must not leave an output file");
+    one_line_error(
+        umbra(&["render", &s(&c.rec()), "--frame", "0", "--out", &s(&out)]),
+        &[&s(&r), &format!("byte {cut}"), "truncated", "921600"],
+    );
+    assert!(
+        !out.exists(),
+        "a failed render must not leave an output file"
+    );
 }
 
 // ---------------------------------------------------------------- 4. calibration.toml, device.json
@@ -287,8 +365,20 @@ fn calibration_syntax_error_gives_line_and_column() {
 fn calibration_unknown_key() {
     let c = Case::new();
     c.edit_calibration("baseline_m = 0.075", "baseline_m = 0.075\nfocal_length = 3");
-    let line = std::fs::read_to_string(c.calibration()).unwrap().lines().position(|l| l.starts_with("focal_length")).unwrap() + 1;
-    one_line_error(c.replay(), &[&s(&c.calibration()), &format!("line {line}, column "), "focal_length"]);
+    let line = std::fs::read_to_string(c.calibration())
+        .unwrap()
+        .lines()
+        .position(|l| l.starts_with("focal_length"))
+        .unwrap()
+        + 1;
+    one_line_error(
+        c.replay(),
+        &[
+            &s(&c.calibration()),
+            &format!("line {line}, column "),
+            "focal_length",
+        ],
+    );
 }
 
 #[test]
@@ -302,19 +392,29 @@ fn calibration_nan_focal_length() {
 fn calibration_absurd_baseline() {
     let c = Case::new();
     c.edit_calibration("baseline_m = 0.075", "baseline_m = 7.5");
-    one_line_error(c.replay(), &[&s(&c.calibration()), "key raw.baseline_m", "7.5"]);
+    one_line_error(
+        c.replay(),
+        &[&s(&c.calibration()), "key raw.baseline_m", "7.5"],
+    );
 }
 
 #[test]
 fn calibration_non_rotation_matrix() {
     let identity = "rotation = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]";
     for bad in [
-        "rotation = [1.0, 0.5, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]",  // not orthogonal
+        "rotation = [1.0, 0.5, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]", // not orthogonal
         "rotation = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, -1.0]", // a reflection
     ] {
         let c = Case::new();
         c.edit_calibration(identity, bad);
-        one_line_error(c.replay(), &[&s(&c.calibration()), "key depth_to_rgb.rotation", "not a proper rotation"]);
+        one_line_error(
+            c.replay(),
+            &[
+                &s(&c.calibration()),
+                "key depth_to_rgb.rotation",
+                "not a proper rotation",
+            ],
+        );
     }
 }
 
@@ -326,7 +426,10 @@ fn device_json_used_only_without_calibration_toml() {
     let c = Case::new();
     std::fs::write(c.rec().join("device.json"), "{ not json").unwrap();
     let (ok, e) = c.replay();
-    assert!(ok, "calibration.toml takes precedence over device.json: {e}");
+    assert!(
+        ok,
+        "calibration.toml takes precedence over device.json: {e}"
+    );
     // Without it, a good device.json is accepted.
     std::fs::remove_file(c.calibration()).unwrap();
     std::fs::write(c.rec().join("device.json"), DEVICE_JSON_OK).unwrap();
@@ -341,7 +444,10 @@ fn device_json_invalid() {
     let dj = c.rec().join("device.json");
     std::fs::write(&dj, "{\"reg_info\": {\"zero_plane_info\": [1, 2,\n").unwrap();
     let (ok, e) = c.replay();
-    assert!(!e.contains(" at line "), "the place is given once, in front: {e}");
+    assert!(
+        !e.contains(" at line "),
+        "the place is given once, in front: {e}"
+    );
     one_line_error((ok, e), &[&s(&dj), ": line 2, column "]);
 }
 
@@ -350,8 +456,22 @@ fn device_json_negative_emitter_distance() {
     let c = Case::new();
     std::fs::remove_file(c.calibration()).unwrap();
     let dj = c.rec().join("device.json");
-    std::fs::write(&dj, DEVICE_JSON_OK.replace("\"dcmos_emitter_distance\":7.5", "\"dcmos_emitter_distance\":-7.5")).unwrap();
-    one_line_error(c.replay(), &[&s(&dj), "reg_info.zero_plane_info.dcmos_emitter_distance", "-7.5"]);
+    std::fs::write(
+        &dj,
+        DEVICE_JSON_OK.replace(
+            "\"dcmos_emitter_distance\":7.5",
+            "\"dcmos_emitter_distance\":-7.5",
+        ),
+    )
+    .unwrap();
+    one_line_error(
+        c.replay(),
+        &[
+            &s(&dj),
+            "reg_info.zero_plane_info.dcmos_emitter_distance",
+            "-7.5",
+        ],
+    );
 }
 
 #[test]
@@ -360,8 +480,23 @@ fn device_json_absurd_emitter_distance_names_its_key() {
     let c = Case::new();
     std::fs::remove_file(c.calibration()).unwrap();
     let dj = c.rec().join("device.json");
-    std::fs::write(&dj, DEVICE_JSON_OK.replace("\"dcmos_emitter_distance\":7.5", "\"dcmos_emitter_distance\":750")).unwrap();
-    one_line_error(c.replay(), &[&s(&dj), "key reg_info.zero_plane_info.dcmos_emitter_distance", "750", "cm"]);
+    std::fs::write(
+        &dj,
+        DEVICE_JSON_OK.replace(
+            "\"dcmos_emitter_distance\":7.5",
+            "\"dcmos_emitter_distance\":750",
+        ),
+    )
+    .unwrap();
+    one_line_error(
+        c.replay(),
+        &[
+            &s(&dj),
+            "key reg_info.zero_plane_info.dcmos_emitter_distance",
+            "750",
+            "cm",
+        ],
+    );
 }
 
 #[test]
@@ -369,7 +504,10 @@ fn config_unknown_key() {
     let c = Case::new();
     let cfg = c.path("umbra.toml");
     std::fs::write(&cfg, "[classifier]\nmin_stp_px = 1.0\n").unwrap();
-    one_line_error(umbra(&["replay", &s(&c.rec()), "--config", &s(&cfg)]), &[&s(&cfg), "line 2, column 1", "min_stp_px"]);
+    one_line_error(
+        umbra(&["replay", &s(&c.rec()), "--config", &s(&cfg)]),
+        &[&s(&cfg), "line 2, column 1", "min_stp_px"],
+    );
 }
 
 // ---------------------------------------------------------------- 5. frame request
@@ -380,7 +518,13 @@ fn render_frame_out_of_range() {
     let out = c.path("x.png");
     one_line_error(
         umbra(&["render", &s(&c.rec()), "--frame", "99", "--out", &s(&out)]),
-        &["frame 99", "out of range", &s(&c.rec()), "2 depth frames", "--frame 0 to 1"],
+        &[
+            "frame 99",
+            "out of range",
+            &s(&c.rec()),
+            "2 depth frames",
+            "--frame 0 to 1",
+        ],
     );
     assert!(!out.exists());
 }
@@ -394,7 +538,10 @@ fn eval_ground_truth_wrong_size() {
     assert!(ok, "eval on the pristine copy must pass: {e}");
     let bad = c.gt().join("000001.rgb.png");
     write_gray_png(&bad, 320, 240, vec![0; 320 * 240]);
-    one_line_error(umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]), &[&s(&bad), "320x240", "640x480"]);
+    one_line_error(
+        umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]),
+        &[&s(&bad), "320x240", "640x480"],
+    );
 }
 
 #[test]
@@ -402,7 +549,10 @@ fn eval_ground_truth_meta_syntax_error() {
     let c = Case::new();
     let meta = c.gt().join("meta.toml");
     std::fs::write(&meta, "category = = \"simple\"\n").unwrap();
-    one_line_error(umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]), &[&s(&meta), "line 1, column "]);
+    one_line_error(
+        umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]),
+        &[&s(&meta), "line 1, column "],
+    );
 }
 
 #[test]
@@ -414,7 +564,10 @@ fn eval_ground_truth_value_not_a_label() {
     let (x, y) = (10, 20);
     px[y * W + x] = 7;
     write_gray_png(&bad, W as u32, H as u32, px);
-    one_line_error(umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]), &[&s(&bad), &format!("pixel ({x}, {y})"), "value 7", "0-4"]);
+    one_line_error(
+        umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]),
+        &[&s(&bad), &format!("pixel ({x}, {y})"), "value 7", "0-4"],
+    );
 }
 
 // ---------------------------------------------------------------- 7. nothing already written is lost
@@ -427,7 +580,15 @@ fn failed_export_keeps_earlier_labels() {
     assert!(ok, "{e}");
     let before = snapshot(&out);
     let names: Vec<&str> = before.iter().map(|(n, _)| n.as_str()).collect();
-    assert_eq!(names, ["000000.depth.png", "000000.rgb.png", "000001.depth.png", "000001.rgb.png"]);
+    assert_eq!(
+        names,
+        [
+            "000000.depth.png",
+            "000000.rgb.png",
+            "000001.depth.png",
+            "000001.rgb.png"
+        ]
+    );
 
     // Frame 1 of a second recording is cut short; the export runs into the same folder.
     // Frames are written in order and atomically (temp file + rename), so frame 0 is rewritten
@@ -437,14 +598,18 @@ fn failed_export_keeps_earlier_labels() {
     copy_dir(&c.rec(), &bad);
     let d = bad.join(c.depth(1).file_name().unwrap());
     std::fs::write(&d, &read(&d)[..300_000]).unwrap();
-    one_line_error(umbra(&["replay", &s(&bad), "--export-labels", &s(&out)]), &[&s(&d), "truncated"]);
+    one_line_error(
+        umbra(&["replay", &s(&bad), "--export-labels", &s(&out)]),
+        &[&s(&d), "truncated"],
+    );
 
     let after = snapshot(&out);
     let names_after: Vec<&str> = after.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names_after, names, "the failed run added or removed files");
     for ((name, a), (_, b)) in before.iter().zip(&after) {
         assert!(a == b, "{name} changed in the failed run");
-        let img = image::load_from_memory(b).unwrap_or_else(|e| panic!("{name} is not a whole PNG: {e}"));
+        let img =
+            image::load_from_memory(b).unwrap_or_else(|e| panic!("{name} is not a whole PNG: {e}"));
         assert_eq!((img.width(), img.height()), (W as u32, H as u32), "{name}");
     }
 }
@@ -458,7 +623,10 @@ fn failed_render_keeps_existing_output() {
     let before = read(&out);
     let d = c.depth(0);
     std::fs::write(&d, &read(&d)[..DEPTH_HEADER.len() + 10]).unwrap();
-    one_line_error(umbra(&["render", &s(&c.rec()), "--frame", "0", "--out", &s(&out)]), &[&s(&d), "truncated"]);
+    one_line_error(
+        umbra(&["render", &s(&c.rec()), "--frame", "0", "--out", &s(&out)]),
+        &[&s(&d), "truncated"],
+    );
     assert!(read(&out) == before, "the earlier render was damaged");
 }
 
@@ -469,10 +637,16 @@ fn export_labels_into_a_regular_file() {
     let c = Case::new();
     let file = c.path("not-a-folder");
     std::fs::write(&file, "keep me").unwrap();
-    one_line_error(umbra(&["replay", &s(&c.rec()), "--export-labels", &s(&file)]), &[&s(&file), "not a folder"]);
+    one_line_error(
+        umbra(&["replay", &s(&c.rec()), "--export-labels", &s(&file)]),
+        &[&s(&file), "not a folder"],
+    );
     assert_eq!(read(&file), b"keep me");
     let below = file.join("labels");
-    one_line_error(umbra(&["replay", &s(&c.rec()), "--export-labels", &s(&below)]), &[&s(&below)]);
+    one_line_error(
+        umbra(&["replay", &s(&c.rec()), "--export-labels", &s(&below)]),
+        &[&s(&below)],
+    );
     assert_eq!(read(&file), b"keep me");
 }
 
@@ -480,7 +654,10 @@ fn export_labels_into_a_regular_file() {
 fn render_into_a_missing_folder() {
     let c = Case::new();
     let out = c.path("no-such-dir").join("x.png");
-    one_line_error(umbra(&["render", &s(&c.rec()), "--frame", "0", "--out", &s(&out)]), &[&s(&out)]);
+    one_line_error(
+        umbra(&["render", &s(&c.rec()), "--frame", "0", "--out", &s(&out)]),
+        &[&s(&out)],
+    );
     assert!(!c.path("no-such-dir").exists());
 }
 
@@ -490,8 +667,18 @@ fn render_onto_a_folder() {
     let out = c.path("a-folder");
     std::fs::create_dir(&out).unwrap();
     std::fs::write(out.join("inside"), "keep me").unwrap();
-    one_line_error(umbra(&["render", &s(&c.rec()), "--frame", "0", "--out", &s(&out)]), &[&s(&out)]);
+    one_line_error(
+        umbra(&["render", &s(&c.rec()), "--frame", "0", "--out", &s(&out)]),
+        &[&s(&out)],
+    );
     assert_eq!(read(&out.join("inside")), b"keep me");
-    let leftovers: Vec<_> = std::fs::read_dir(c.tmp.path()).unwrap().map(|e| e.unwrap().file_name()).filter(|n| n.to_string_lossy().ends_with(".part")).collect();
-    assert!(leftovers.is_empty(), "temporary files left behind: {leftovers:?}");
+    let leftovers: Vec<_> = std::fs::read_dir(c.tmp.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .filter(|n| n.to_string_lossy().ends_with(".part"))
+        .collect();
+    assert!(
+        leftovers.is_empty(),
+        "temporary files left behind: {leftovers:?}"
+    );
 }

@@ -10,15 +10,24 @@ use umbra::recording::Recording;
 use umbra::sink::labels::{label_path, read_label_png};
 
 fn umbra(args: &[&str]) -> Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_umbra")).args(args).output().expect("run umbra");
-    assert!(out.status.success(), "umbra {args:?} failed: {}", String::from_utf8_lossy(&out.stderr));
+    let out = Command::new(env!("CARGO_BIN_EXE_umbra"))
+        .args(args)
+        .output()
+        .expect("run umbra");
+    assert!(
+        out.status.success(),
+        "umbra {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     out
 }
 
 fn synth(dir: &Path, scene: &str, frames: &str) -> (String, String) {
     let rec = dir.join("rec").display().to_string();
     let gt = dir.join("gt").display().to_string();
-    umbra(&["synth", &rec, "--gt", &gt, "--scene", scene, "--frames", frames, "--seed", "5"]);
+    umbra(&[
+        "synth", &rec, "--gt", &gt, "--scene", scene, "--frames", frames, "--seed", "5",
+    ]);
     (rec, gt)
 }
 
@@ -27,26 +36,54 @@ fn replay_exports_exactly_what_the_classifier_computes() {
     let tmp = tempfile::tempdir().unwrap();
     let (rec, _) = synth(tmp.path(), "complex", "3");
     let out_dir = tmp.path().join("labels");
-    let out = umbra(&["replay", &rec, "--export-labels", &out_dir.display().to_string()]);
+    let out = umbra(&[
+        "replay",
+        &rec,
+        "--export-labels",
+        &out_dir.display().to_string(),
+    ]);
     let summary = String::from_utf8_lossy(&out.stdout);
     assert!(summary.starts_with("3 frames in "), "{summary}");
-    assert!(summary.contains("attached") && summary.contains("frames/s"), "{summary}");
+    assert!(
+        summary.contains("attached") && summary.contains("frames/s"),
+        "{summary}"
+    );
 
     // SPEC §4: one depth and one rgb PNG per frame, nothing else.
-    let mut names: Vec<String> = std::fs::read_dir(&out_dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    let mut names: Vec<String> = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
     names.sort();
-    assert_eq!(names, ["000000.depth.png", "000000.rgb.png", "000001.depth.png", "000001.rgb.png", "000002.depth.png", "000002.rgb.png"]);
+    assert_eq!(
+        names,
+        [
+            "000000.depth.png",
+            "000000.rgb.png",
+            "000001.depth.png",
+            "000001.rgb.png",
+            "000002.depth.png",
+            "000002.rgb.png"
+        ]
+    );
 
     let recording = Recording::open(Path::new(&rec)).unwrap();
     let mut classifier = Classifier::new(recording.calibration());
-    let (mut raw, mut out, mut png) = (vec![0u16; PIXELS], Classified::default(), vec![0u8; PIXELS]);
+    let (mut raw, mut out, mut png) =
+        (vec![0u16; PIXELS], Classified::default(), vec![0u8; PIXELS]);
     for i in 0..3 {
         recording.read_depth(i, &mut raw).unwrap();
         classifier.classify(&raw, &mut out);
         read_label_png(&label_path(&out_dir, i, "depth"), &mut png).unwrap();
-        assert!(png == out.ir_labels, "frame {i}: exported IR labels differ from the classifier");
+        assert!(
+            png == out.ir_labels,
+            "frame {i}: exported IR labels differ from the classifier"
+        );
         read_label_png(&label_path(&out_dir, i, "rgb"), &mut png).unwrap();
-        assert!(png == out.rgb_labels, "frame {i}: exported RGB labels differ from the classifier");
+        assert!(
+            png == out.rgb_labels,
+            "frame {i}: exported RGB labels differ from the classifier"
+        );
     }
 }
 
@@ -55,7 +92,8 @@ fn eval_scores_the_box_scene_against_ground_truth() {
     let tmp = tempfile::tempdir().unwrap();
     let (rec, gt) = synth(tmp.path(), "box", "1");
     let out = umbra(&["eval", &rec, "--gt", &gt, "--json"]);
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("eval --json prints JSON");
+    let v: serde_json::Value =
+        serde_json::from_slice(&out.stdout).expect("eval --json prints JSON");
     let attached = &v["groups"]["all"]["ir"]["classes"]["attached"];
     // The box scene has a real sensor's noise and widened shadows: still near-perfect.
     assert!(attached["f1"].as_f64().unwrap() > 0.97, "{attached}");
@@ -74,9 +112,21 @@ fn render_draws_three_panels_with_legend() {
     let tmp = tempfile::tempdir().unwrap();
     let (rec, _) = synth(tmp.path(), "box", "2");
     let png = tmp.path().join("frame.png");
-    umbra(&["render", &rec, "--frame", "1", "--out", &png.display().to_string()]);
+    umbra(&[
+        "render",
+        &rec,
+        "--frame",
+        "1",
+        "--out",
+        &png.display().to_string(),
+    ]);
     let img = image::open(&png).unwrap().to_rgb8();
-    assert!(img.width() >= 3 * 640 && img.height() > 480, "{}x{}", img.width(), img.height());
+    assert!(
+        img.width() >= 3 * 640 && img.height() > 480,
+        "{}x{}",
+        img.width(),
+        img.height()
+    );
     // Pure paper red appears (the box's attached shadow in the IR panel).
     assert!(img.pixels().any(|p| p.0 == [255, 0, 0]));
 }
@@ -85,15 +135,34 @@ fn render_draws_three_panels_with_legend() {
 fn replay_to_mcap_and_tail_back_gives_the_same_labels() {
     let tmp = tempfile::tempdir().unwrap();
     let (rec, _) = synth(tmp.path(), "complex", "2");
-    let (png, mcap, back) = (tmp.path().join("png"), tmp.path().join("mcap"), tmp.path().join("back"));
-    umbra(&["replay", &rec, "--export-labels", &png.display().to_string(), "--mcap", &mcap.display().to_string()]);
-    umbra(&["tail", &mcap.display().to_string(), "--export-labels", &back.display().to_string()]);
+    let (png, mcap, back) = (
+        tmp.path().join("png"),
+        tmp.path().join("mcap"),
+        tmp.path().join("back"),
+    );
+    umbra(&[
+        "replay",
+        &rec,
+        "--export-labels",
+        &png.display().to_string(),
+        "--mcap",
+        &mcap.display().to_string(),
+    ]);
+    umbra(&[
+        "tail",
+        &mcap.display().to_string(),
+        "--export-labels",
+        &back.display().to_string(),
+    ]);
     let (mut a, mut b) = (vec![0u8; PIXELS], vec![0u8; PIXELS]);
     for i in 0..2 {
         for view in ["depth", "rgb"] {
             read_label_png(&label_path(&png, i, view), &mut a).unwrap();
             read_label_png(&label_path(&back, i, view), &mut b).unwrap();
-            assert!(a == b, "frame {i} {view}: labels read back from MCAP differ from the export");
+            assert!(
+                a == b,
+                "frame {i} {view}: labels read back from MCAP differ from the export"
+            );
         }
     }
 }

@@ -31,7 +31,16 @@ static GLOBAL: Counting = Counting;
 #[test]
 fn classifying_frames_allocates_nothing() {
     let calib = Calibration::nyu_default();
-    let frames: Vec<_> = (0..3).map(|s| render_frame(&random_scene(Category::Complex, s), &calib, &sensor_for(Category::Complex), s)).collect();
+    let frames: Vec<_> = (0..3)
+        .map(|s| {
+            render_frame(
+                &random_scene(Category::Complex, s),
+                &calib,
+                &sensor_for(Category::Complex),
+                s,
+            )
+        })
+        .collect();
     let mut classifier = Classifier::new(&calib);
     let mut out = Classified::default();
     let before = ALLOCATIONS.load(Ordering::Relaxed);
@@ -40,5 +49,8 @@ fn classifying_frames_allocates_nothing() {
     }
     let during = ALLOCATIONS.load(Ordering::Relaxed) - before;
     assert_eq!(during, 0, "{during} allocations while classifying 9 frames");
-    assert!(out.ir_labels.iter().any(|&l| l != 0), "the frames were really classified");
+    assert!(
+        out.ir_labels.iter().any(|&l| l != 0),
+        "the frames were really classified"
+    );
 }

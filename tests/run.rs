@@ -17,44 +17,97 @@ fn check_config_accepts_the_shipped_file_and_names_what_is_wrong() {
     let out = tmp.path().join("out");
     let shipped = format!("{}/config/umbra.toml", env!("CARGO_MANIFEST_DIR"));
     let rec = bundled("box-before-wall");
-    let (ok, stdout, stderr) = run(&["run", "--check-config", "--config", &shipped, "--source", &format!("replay:{rec}"), "--out", &s(&out)]);
+    let (ok, stdout, stderr) = run(&[
+        "run",
+        "--check-config",
+        "--config",
+        &shipped,
+        "--source",
+        &format!("replay:{rec}"),
+        "--out",
+        &s(&out),
+    ]);
     assert!(ok, "{stderr}");
-    assert!(stdout.starts_with("config OK (") && stdout.contains(&s(&out)), "{stdout}");
+    assert!(
+        stdout.starts_with("config OK (") && stdout.contains(&s(&out)),
+        "{stdout}"
+    );
     assert!(!out.exists(), "checking creates nothing");
 
     // Flags are optional when the file says it all.
     let cfg = tmp.path().join("u.toml");
-    std::fs::write(&cfg, format!("[run]\nsource = \"replay:{rec}\"\nout = \"{}\"\n", s(&out))).unwrap();
+    std::fs::write(
+        &cfg,
+        format!("[run]\nsource = \"replay:{rec}\"\nout = \"{}\"\n", s(&out)),
+    )
+    .unwrap();
     let (ok, stdout, stderr) = run(&["run", "--check-config", "--config", &s(&cfg)]);
-    assert!(ok && stdout.contains(&format!("replay:{rec}")), "{stdout}{stderr}");
+    assert!(
+        ok && stdout.contains(&format!("replay:{rec}")),
+        "{stdout}{stderr}"
+    );
 
     let bad = |text: &str, needles: &[&str]| {
         std::fs::write(&cfg, text).unwrap();
-        let (ok, _, stderr) = run(&["run", "--check-config", "--config", &s(&cfg), "--out", &s(&out)]);
+        let (ok, _, stderr) = run(&[
+            "run",
+            "--check-config",
+            "--config",
+            &s(&cfg),
+            "--out",
+            &s(&out),
+        ]);
         let mut all = vec![s(&cfg)];
         all.extend(needles.iter().map(|n| n.to_string()));
-        one_line_error(ok, &stderr, &all.iter().map(String::as_str).collect::<Vec<_>>());
+        one_line_error(
+            ok,
+            &stderr,
+            &all.iter().map(String::as_str).collect::<Vec<_>>(),
+        );
     };
     bad("[mcap]\nzstd_level = 40\n", &["mcap.zstd_level", "40"]);
     bad("[mcap]\nsegment_mb = 5\n", &["line 2", "segment_mb"]);
     bad("[run]\nsource = \"usb:3\"\n", &["run.source", "usb:3"]);
-    bad("[device]\nreconnect_initial_s = 5.0\nreconnect_max_s = 1.0\n", &["device.reconnect_max_s"]);
+    bad(
+        "[device]\nreconnect_initial_s = 5.0\nreconnect_max_s = 1.0\n",
+        &["device.reconnect_max_s"],
+    );
     bad("[run\n", &["line 1"]);
 
     // No output folder anywhere; an output "folder" that is a file; a recording that is not there.
-    let (ok, _, stderr) = run(&["run", "--check-config", "--source", &format!("replay:{rec}")]);
+    let (ok, _, stderr) = run(&[
+        "run",
+        "--check-config",
+        "--source",
+        &format!("replay:{rec}"),
+    ]);
     one_line_error(ok, &stderr, &["--out", "run.out"]);
     let file = tmp.path().join("file");
     std::fs::write(&file, b"x").unwrap();
-    let (ok, _, stderr) = run(&["run", "--check-config", "--source", &format!("replay:{rec}"), "--out", &s(&file)]);
+    let (ok, _, stderr) = run(&[
+        "run",
+        "--check-config",
+        "--source",
+        &format!("replay:{rec}"),
+        "--out",
+        &s(&file),
+    ]);
     one_line_error(ok, &stderr, &[&s(&file), "not a folder"]);
-    let (ok, _, stderr) = run(&["run", "--check-config", "--source", "replay:/nonexistent/rec", "--out", &s(&out)]);
+    let (ok, _, stderr) = run(&[
+        "run",
+        "--check-config",
+        "--source",
+        "replay:/nonexistent/rec",
+        "--out",
+        &s(&out),
+    ]);
     one_line_error(ok, &stderr, &["/nonexistent/rec"]);
 }
 
 /// Every datagram received on `sock` until `STOPPING=1` or `deadline`.
 fn notifications(sock: &UnixDatagram, deadline: Duration) -> Vec<String> {
-    sock.set_read_timeout(Some(Duration::from_millis(100))).unwrap();
+    sock.set_read_timeout(Some(Duration::from_millis(100)))
+        .unwrap();
     let t = Instant::now();
     let mut got = Vec::new();
     let mut buf = [0u8; 4096];
@@ -78,7 +131,15 @@ fn systemd_hears_ready_status_watchdog_and_stopping() {
     let sock = UnixDatagram::bind(&path).unwrap();
     // 2 frames played 30 times at recorded speed: about 2 s, two STATUS updates at least.
     let child = umbra()
-        .args(["run", "--source", &format!("replay:{}", bundled("box-before-wall")), "--repeat", "30", "--out", &s(&tmp.path().join("out"))])
+        .args([
+            "run",
+            "--source",
+            &format!("replay:{}", bundled("box-before-wall")),
+            "--repeat",
+            "30",
+            "--out",
+            &s(&tmp.path().join("out")),
+        ])
         .env("NOTIFY_SOCKET", &path)
         .env("WATCHDOG_USEC", "1000000")
         .stdout(Stdio::piped())
@@ -87,20 +148,48 @@ fn systemd_hears_ready_status_watchdog_and_stopping() {
         .unwrap();
     let got = notifications(&sock, Duration::from_secs(20));
     let out = child.wait_with_output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    assert_eq!(got.first().map(String::as_str), Some("READY=1\n"), "{got:?}");
-    assert_eq!(got.last().map(String::as_str), Some("STOPPING=1\n"), "{got:?}");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        got.first().map(String::as_str),
+        Some("READY=1\n"),
+        "{got:?}"
+    );
+    assert_eq!(
+        got.last().map(String::as_str),
+        Some("STOPPING=1\n"),
+        "{got:?}"
+    );
     let status: Vec<&String> = got.iter().filter(|m| m.starts_with("STATUS=")).collect();
     assert!(status.len() >= 2, "{got:?}");
     // While frames flow: ~30 fps, nothing dropped, and the watchdog is fed with each status.
-    let busy = status.iter().find(|m| m.contains(" fps") && !m.starts_with("STATUS=0.0")).unwrap_or_else(|| panic!("{got:?}"));
-    let fps: f64 = busy["STATUS=".len()..].split(' ').next().unwrap().parse().unwrap();
+    let busy = status
+        .iter()
+        .find(|m| m.contains(" fps") && !m.starts_with("STATUS=0.0"))
+        .unwrap_or_else(|| panic!("{got:?}"));
+    let fps: f64 = busy["STATUS=".len()..]
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
     assert!((20.0..40.0).contains(&fps), "{busy}");
-    assert!(busy.contains("0 dropped, 0 lost") && busy.contains("p99 latency") && busy.contains("WATCHDOG=1"), "{busy}");
+    assert!(
+        busy.contains("0 dropped, 0 lost")
+            && busy.contains("p99 latency")
+            && busy.contains("WATCHDOG=1"),
+        "{busy}"
+    );
 }
 
 fn files(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
     names.sort();
     names
 }
@@ -112,7 +201,17 @@ fn after_kill_9_tail_recovers_every_complete_frame() {
     let out = tmp.path().join("out");
     // 3 frames played 40 times at 30 fps: 4 s, killed after about 1.
     let mut child = umbra()
-        .args(["run", "--source", &format!("replay:{rec}"), "--repeat", "40", "--out", &s(&out.join("mcap")), "--export-labels", &s(&out.join("labels"))])
+        .args([
+            "run",
+            "--source",
+            &format!("replay:{rec}"),
+            "--repeat",
+            "40",
+            "--out",
+            &s(&out.join("mcap")),
+            "--export-labels",
+            &s(&out.join("labels")),
+        ])
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
@@ -126,12 +225,33 @@ fn after_kill_9_tail_recovers_every_complete_frame() {
     child.wait().unwrap();
     // The PNG of frame 20 is written after its MCAP chunk, so at least 21 frames are complete.
     let back = tmp.path().join("back");
-    let (ok, stdout, stderr) = run(&["tail", &s(&out.join("mcap")), "--json", "--export-labels", &s(&back)]);
+    let (ok, stdout, stderr) = run(&[
+        "tail",
+        &s(&out.join("mcap")),
+        "--json",
+        "--export-labels",
+        &s(&back),
+    ]);
     assert!(ok, "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
-    let seqs: Vec<u64> = stdout.lines().map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap()["seq"].as_u64().unwrap()).collect();
-    assert!(seqs.len() >= 21, "{} frames recovered: {stderr}", seqs.len());
-    assert_eq!(seqs, (0..seqs.len() as u64).collect::<Vec<_>>(), "frames 0..n, none torn, none missing");
+    let seqs: Vec<u64> = stdout
+        .lines()
+        .map(|l| {
+            serde_json::from_str::<serde_json::Value>(l).unwrap()["seq"]
+                .as_u64()
+                .unwrap()
+        })
+        .collect();
+    assert!(
+        seqs.len() >= 21,
+        "{} frames recovered: {stderr}",
+        seqs.len()
+    );
+    assert_eq!(
+        seqs,
+        (0..seqs.len() as u64).collect::<Vec<_>>(),
+        "frames 0..n, none torn, none missing"
+    );
     // Each recovered frame carries the labels `umbra replay` gives its recording frame.
     let reference = tmp.path().join("ref");
     let (ok, _, stderr) = run(&["replay", &rec, "--export-labels", &s(&reference)]);
@@ -140,15 +260,25 @@ fn after_kill_9_tail_recovers_every_complete_frame() {
     for &i in &seqs {
         for view in ["depth", "rgb"] {
             let name = |k: u64| format!("{k:06}.{view}.png");
-            let (a, b) = (std::fs::read(back.join(name(i))).unwrap(), std::fs::read(reference.join(name(i % 3))).unwrap());
-            assert!(a == b, "frame {i} {view}: recovered labels differ from replay's");
+            let (a, b) = (
+                std::fs::read(back.join(name(i))).unwrap(),
+                std::fs::read(reference.join(name(i % 3))).unwrap(),
+            );
+            assert!(
+                a == b,
+                "frame {i} {view}: recovered labels differ from replay's"
+            );
         }
     }
 }
 
 #[test]
 fn the_service_unit_is_hardened_and_systemd_accepts_it() {
-    let unit = std::fs::read_to_string(format!("{}/config/umbra@.service", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let unit = std::fs::read_to_string(format!(
+        "{}/config/umbra@.service",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
     let has = |kv: &str| unit.lines().any(|l| l.trim() == kv);
     for kv in [
         "Type=notify",
@@ -162,26 +292,57 @@ fn the_service_unit_is_hardened_and_systemd_accepts_it() {
     ] {
         assert!(has(kv), "config/umbra@.service lacks {kv}");
     }
-    let exec = unit.lines().find_map(|l| l.strip_prefix("ExecStart=")).unwrap();
-    assert!(exec.contains("run --config /etc/umbra/umbra.toml --source kinect:%i --out /var/lib/umbra/%i"), "{exec}");
+    let exec = unit
+        .lines()
+        .find_map(|l| l.strip_prefix("ExecStart="))
+        .unwrap();
+    assert!(
+        exec.contains(
+            "run --config /etc/umbra/umbra.toml --source kinect:%i --out /var/lib/umbra/%i"
+        ),
+        "{exec}"
+    );
     // The shipped config must be what the unit's --config accepts.
     let shipped = format!("{}/config/umbra.toml", env!("CARGO_MANIFEST_DIR"));
-    let (ok, _, stderr) = run(&["run", "--check-config", "--config", &shipped, "--source", "kinect:A00362A09433114A", "--out", "/tmp/umbra-unit-check"]);
+    let (ok, _, stderr) = run(&[
+        "run",
+        "--check-config",
+        "--config",
+        &shipped,
+        "--source",
+        "kinect:A00362A09433114A",
+        "--out",
+        "/tmp/umbra-unit-check",
+    ]);
     assert!(ok, "{stderr}");
     // systemd's own checker, where systemd is installed, with ExecStart pointing at this build.
-    let Ok(probe) = std::process::Command::new("systemd-analyze").arg("--version").output() else {
+    let Ok(probe) = std::process::Command::new("systemd-analyze")
+        .arg("--version")
+        .output()
+    else {
         eprintln!("SKIPPED systemd-analyze verify: systemd-analyze is not installed");
         return;
     };
     assert!(probe.status.success());
     let tmp = tempfile::tempdir().unwrap();
     let path = tmp.path().join("umbra@A00362A09433114A.service");
-    std::fs::write(&path, unit.replace("/usr/local/bin/umbra", env!("CARGO_BIN_EXE_umbra"))).unwrap();
-    let out = std::process::Command::new("systemd-analyze").arg("verify").arg(&path).output().unwrap();
+    std::fs::write(
+        &path,
+        unit.replace("/usr/local/bin/umbra", env!("CARGO_BIN_EXE_umbra")),
+    )
+    .unwrap();
+    let out = std::process::Command::new("systemd-analyze")
+        .arg("verify")
+        .arg(&path)
+        .output()
+        .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     // Messages about the host's other units are not ours; ones naming this unit are.
     let ours: Vec<&str> = stderr.lines().filter(|l| l.contains("umbra@")).collect();
-    assert!(out.status.success() && ours.is_empty(), "systemd-analyze verify: {stderr}");
+    assert!(
+        out.status.success() && ours.is_empty(),
+        "systemd-analyze verify: {stderr}"
+    );
 }
 
 #[test]
@@ -191,9 +352,22 @@ fn foreground_masks_in_the_daemon_match_the_ground_truth() {
     std::fs::write(&cfg, "[foreground]\nrate_hz = 30.0\n").unwrap();
     let out = tmp.path().join("out");
     let rec = bundled("box-before-wall");
-    let (ok, _, stderr) = run(&["run", "--config", &s(&cfg), "--source", &format!("replay:{rec}"), "--out", &s(&out)]);
+    let (ok, _, stderr) = run(&[
+        "run",
+        "--config",
+        &s(&cfg),
+        "--source",
+        &format!("replay:{rec}"),
+        "--out",
+        &s(&out),
+    ]);
     assert!(ok, "{stderr}");
-    let seg = std::fs::read_dir(&out).unwrap().next().unwrap().unwrap().path();
+    let seg = std::fs::read_dir(&out)
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path();
     let bytes = std::fs::read(seg).unwrap();
     let mut masks = 0;
     for m in mcap::MessageStream::new(&bytes).unwrap() {
@@ -205,14 +379,23 @@ fn foreground_masks_in_the_daemon_match_the_ground_truth() {
         let (h, pixels) = umbra::sink::mcap::ros2::decode_image(&m.data).unwrap();
         assert_eq!((h.encoding, h.width, h.height), ("mono8", 640, 480));
         // The simulator's exact mask of the same frame (independent of the segmenter).
-        let gt = image::open(format!("{rec}/../ground-truth/box-before-wall/{:06}.fg.png", m.sequence)).unwrap().to_luma8();
+        let gt = image::open(format!(
+            "{rec}/../ground-truth/box-before-wall/{:06}.fg.png",
+            m.sequence
+        ))
+        .unwrap()
+        .to_luma8();
         let (mut inter, mut union) = (0u32, 0u32);
         for (&p, &g) in pixels.iter().zip(gt.as_raw()) {
             inter += u32::from(p == 255 && g == 255);
             union += u32::from(p == 255 || g == 255);
         }
         let iou = f64::from(inter) / f64::from(union.max(1));
-        assert!(iou >= 0.9, "frame {}: IoU {iou:.3} with the ground-truth mask", m.sequence);
+        assert!(
+            iou >= 0.9,
+            "frame {}: IoU {iou:.3} with the ground-truth mask",
+            m.sequence
+        );
     }
     assert!(masks >= 1, "no foreground mask written");
 }

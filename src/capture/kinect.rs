@@ -58,7 +58,14 @@ impl KinectSource {
         };
         let stream = Stream::start(which.clone(), POOL, stop)?;
         let (calibration, calibration_origin) = match (&recording, stream.info.zero_plane) {
-            (Some(rec), _) => (*rec.calibration(), format!("fakenect recording {} ({:?})", rec.dir().display(), rec.calibration_source())),
+            (Some(rec), _) => (
+                *rec.calibration(),
+                format!(
+                    "fakenect recording {} ({:?})",
+                    rec.dir().display(),
+                    rec.calibration_source()
+                ),
+            ),
             (None, Some(z)) => {
                 let zp = device_json::ZeroPlane {
                     dcmos_emitter_distance: z.dcmos_emitter_dist.into(),
@@ -71,14 +78,27 @@ impl KinectSource {
                     Ok(c) => (c, origin),
                     Err(e) => {
                         warn!("{e}; using NYU Kinect v1 defaults");
-                        (Calibration::nyu_default(), "NYU Kinect v1 defaults".to_string())
+                        (
+                            Calibration::nyu_default(),
+                            "NYU Kinect v1 defaults".to_string(),
+                        )
                     }
                 }
             }
-            (None, None) => (Calibration::nyu_default(), "NYU Kinect v1 defaults (no registration data)".to_string()),
+            (None, None) => (
+                Calibration::nyu_default(),
+                "NYU Kinect v1 defaults (no registration data)".to_string(),
+            ),
         };
         info!(device = %which, serials = ?stream.info.serials, calibration = %calibration_origin, "Kinect open");
-        Ok(KinectSource { stream, recent: VecDeque::with_capacity(RECENT_RGB + 1), calibration, calibration_origin, video_drops_reported: 0, stall_timeout: DEFAULT_STALL_TIMEOUT })
+        Ok(KinectSource {
+            stream,
+            recent: VecDeque::with_capacity(RECENT_RGB + 1),
+            calibration,
+            calibration_origin,
+            video_drops_reported: 0,
+            stall_timeout: DEFAULT_STALL_TIMEOUT,
+        })
     }
 
     /// A device that delivers no depth frame for this long is reported as failed (so that a
@@ -142,9 +162,14 @@ impl Source for KinectSource {
         let mut depth = match self.stream.depth.recv_timeout(self.stall_timeout) {
             Ok(d) => d,
             // The capture thread ended: a device error, or the end of a fakenect recording.
-            Err(RecvTimeoutError::Disconnected) => return self.stream.take_failure().map_or(Ok(false), Err),
+            Err(RecvTimeoutError::Disconnected) => {
+                return self.stream.take_failure().map_or(Ok(false), Err)
+            }
             Err(RecvTimeoutError::Timeout) => {
-                return Err(Error::Usage(format!("no depth frame for {:.1} s: the device stalled", self.stall_timeout.as_secs_f64())));
+                return Err(Error::Usage(format!(
+                    "no depth frame for {:.1} s: the device stalled",
+                    self.stall_timeout.as_secs_f64()
+                )));
             }
         };
         frame.device_ts = depth.ts;
@@ -160,7 +185,10 @@ impl Source for KinectSource {
         }
         let _ = self.stream.depth_free.try_send(depth.data);
         if depth.dropped_before > 0 {
-            warn!(dropped = depth.dropped_before, "pipeline fell behind: depth frames dropped");
+            warn!(
+                dropped = depth.dropped_before,
+                "pipeline fell behind: depth frames dropped"
+            );
         }
         self.take_rgb();
         frame.has_rgb = match nearest_rgb(&self.recent, frame.device_ts, frame.unix_time) {
@@ -175,7 +203,10 @@ impl Source for KinectSource {
         let (_, video_drops) = self.stream.dropped();
         if video_drops > self.video_drops_reported {
             frame.rgb_dropped_before = video_drops - self.video_drops_reported;
-            warn!(dropped = frame.rgb_dropped_before, "pipeline fell behind: RGB frames dropped");
+            warn!(
+                dropped = frame.rgb_dropped_before,
+                "pipeline fell behind: RGB frames dropped"
+            );
             self.video_drops_reported = video_drops;
         }
         Ok(true)
@@ -187,7 +218,13 @@ mod tests {
     use super::*;
 
     fn rgb(ts: u32, t: f64) -> Captured<u8> {
-        Captured { ts, unix_time: t, received: std::time::Instant::now(), dropped_before: 0, data: Vec::new() }
+        Captured {
+            ts,
+            unix_time: t,
+            received: std::time::Instant::now(),
+            dropped_before: 0,
+            data: Vec::new(),
+        }
     }
 
     #[test]
@@ -202,7 +239,11 @@ mod tests {
         let recent: VecDeque<_> = [rgb(u32::MAX - 1000, 10.0), rgb(2000, 10.03)].into();
         assert_eq!(nearest_rgb(&recent, 100, 10.0), Some(0));
         assert_eq!(nearest_rgb(&recent, 1900, 10.03), Some(1));
-        assert_eq!(nearest_rgb(&recent, 1900, 11.0), None, "RGB from a second ago is not a pair");
+        assert_eq!(
+            nearest_rgb(&recent, 1900, 11.0),
+            None,
+            "RGB from a second ago is not a pair"
+        );
         assert_eq!(nearest_rgb(&VecDeque::new(), 0, 0.0), None);
     }
 }

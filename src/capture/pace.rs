@@ -24,7 +24,12 @@ pub struct Paced<S> {
 impl<S: Source> Paced<S> {
     /// Wraps `inner`; with `realtime` false frames come as fast as `inner` reads them.
     pub fn new(inner: S, stop: Arc<AtomicBool>, realtime: bool) -> Self {
-        Paced { inner, stop, realtime, origin: None }
+        Paced {
+            inner,
+            stop,
+            realtime,
+            origin: None,
+        }
     }
 }
 
@@ -83,7 +88,10 @@ mod tests {
             assert!(p.next_frame(&mut f).unwrap());
         }
         let took = t.elapsed();
-        assert!(took >= Duration::from_millis(100) && took < Duration::from_millis(400), "{took:?}");
+        assert!(
+            took >= Duration::from_millis(100) && took < Duration::from_millis(400),
+            "{took:?}"
+        );
         stop.store(true, Ordering::SeqCst);
         let mut p = Paced::new(Times(vec![1.0]), stop, true);
         assert!(!p.next_frame(&mut f).unwrap());

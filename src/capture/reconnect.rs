@@ -24,7 +24,10 @@ pub struct Backoff {
 
 impl Default for Backoff {
     fn default() -> Self {
-        Backoff { initial: Duration::from_millis(500), max: Duration::from_secs(30) }
+        Backoff {
+            initial: Duration::from_millis(500),
+            max: Duration::from_secs(30),
+        }
     }
 }
 
@@ -52,8 +55,20 @@ pub struct Reconnecting {
 impl Reconnecting {
     /// Wraps an already opened `first` source (so that a device missing at start is still an
     /// immediate error for the caller); `open` makes the next ones.
-    pub fn new(first: Box<dyn Source>, open: Opener, backoff: Backoff, stop: Arc<AtomicBool>) -> Self {
-        Reconnecting { open, current: Some(first), backoff, stop, reconnects: Arc::default(), after_gap: false }
+    pub fn new(
+        first: Box<dyn Source>,
+        open: Opener,
+        backoff: Backoff,
+        stop: Arc<AtomicBool>,
+    ) -> Self {
+        Reconnecting {
+            open,
+            current: Some(first),
+            backoff,
+            stop,
+            reconnects: Arc::default(),
+            after_gap: false,
+        }
     }
 
     /// Counts successful reopens (shared, for status lines).
@@ -88,10 +103,17 @@ impl Reconnecting {
                     self.current = Some(s);
                     self.after_gap = true;
                     self.reconnects.fetch_add(1, Ordering::Relaxed);
-                    info!(attempts = attempt + 1, down_s = lost.elapsed().as_secs_f64(), "device back, capture resumed");
+                    info!(
+                        attempts = attempt + 1,
+                        down_s = lost.elapsed().as_secs_f64(),
+                        "device back, capture resumed"
+                    );
                     return true;
                 }
-                Err(e) if attempt == 0 => warn!("reopening the device failed, retrying with backoff up to {:?}: {e}", self.backoff.max),
+                Err(e) if attempt == 0 => warn!(
+                    "reopening the device failed, retrying with backoff up to {:?}: {e}",
+                    self.backoff.max
+                ),
                 Err(e) => tracing::debug!(attempt, "reopening failed: {e}"),
             }
         }
@@ -134,9 +156,16 @@ mod tests {
 
     #[test]
     fn backoff_doubles_up_to_its_cap() {
-        let b = Backoff { initial: Duration::from_millis(100), max: Duration::from_secs(1) };
+        let b = Backoff {
+            initial: Duration::from_millis(100),
+            max: Duration::from_secs(1),
+        };
         let d: Vec<u128> = (0..6).map(|n| b.delay(n).as_millis()).collect();
         assert_eq!(d, [100, 200, 400, 800, 1000, 1000]);
-        assert_eq!(b.delay(1000), Duration::from_secs(1), "no overflow on long outages");
+        assert_eq!(
+            b.delay(1000),
+            Duration::from_secs(1),
+            "no overflow on long outages"
+        );
     }
 }

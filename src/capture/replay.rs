@@ -28,9 +28,25 @@ impl ReplaySource {
             _ => 0.0,
         };
         // One pass lasts its span plus one mean frame interval (1/30 s for a single frame).
-        let step = if f.len() > 1 { span / (f.len() - 1) as f64 } else { 1.0 / 30.0 };
-        let period = if (span + step).is_finite() && span + step > 0.0 { span + step } else { 1.0 / 30.0 };
-        ReplaySource { recording, next: 0, with_rgb, scratch: Vec::new(), passes_left: 0, pass: 0, period }
+        let step = if f.len() > 1 {
+            span / (f.len() - 1) as f64
+        } else {
+            1.0 / 30.0
+        };
+        let period = if (span + step).is_finite() && span + step > 0.0 {
+            span + step
+        } else {
+            1.0 / 30.0
+        };
+        ReplaySource {
+            recording,
+            next: 0,
+            with_rgb,
+            scratch: Vec::new(),
+            passes_left: 0,
+            pass: 0,
+            period,
+        }
     }
 
     /// Plays the recording `passes` times in a row (soak tests: 100 000 frames from a short
@@ -49,14 +65,23 @@ impl Source for ReplaySource {
             self.pass += 1;
             self.next = 0;
         }
-        let Some(meta) = self.recording.frames().get(self.next) else { return Ok(false) };
+        let Some(meta) = self.recording.frames().get(self.next) else {
+            return Ok(false);
+        };
         let shift = self.pass as f64 * self.period;
         // The Kinect's timestamp counts a 60 MHz clock (2 000 000 ticks per frame at 30 fps) and
         // wraps every 71.6 s, as a long live run does.
-        frame.device_ts = meta.depth.device_ts.wrapping_add((shift * 60e6) as u64 as u32);
+        frame.device_ts = meta
+            .depth
+            .device_ts
+            .wrapping_add((shift * 60e6) as u64 as u32);
         frame.unix_time = meta.depth.unix_time + shift;
-        self.recording.read_depth_with(self.next, &mut self.scratch, &mut frame.depth)?;
-        frame.has_rgb = self.with_rgb && self.recording.read_rgb_with(self.next, &mut self.scratch, &mut frame.rgb)?;
+        self.recording
+            .read_depth_with(self.next, &mut self.scratch, &mut frame.depth)?;
+        frame.has_rgb = self.with_rgb
+            && self
+                .recording
+                .read_rgb_with(self.next, &mut self.scratch, &mut frame.rgb)?;
         self.next += 1;
         Ok(true)
     }

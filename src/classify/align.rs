@@ -76,7 +76,9 @@ impl Warp {
             iz_scale: (-1.0 / calib.raw.numerator) as f32,
             iz_offset: (calib.raw.denominator / calib.raw.numerator) as f32,
             wide: wide_simd_available(),
-            row_ray: (0..HEIGHT).map(|v| rot(-d.cx / d.fx, (v as f64 - d.cy) / d.fy, 1.0)).collect(),
+            row_ray: (0..HEIGHT)
+                .map(|v| rot(-d.cx / d.fx, (v as f64 - d.cy) / d.fy, 1.0))
+                .collect(),
             col_step: rot(1.0 / d.fx, 0.0, 0.0),
             t: [t.x as f32, t.y as f32, t.z as f32],
             rgb_f: [calib.rgb.fx as f32, calib.rgb.fy as f32],
@@ -96,7 +98,12 @@ impl Warp {
     /// scanline classifier), `ir` the IR-view labels; writes RGB-view labels and registered depth
     /// in millimetres (0 where the RGB pixel has no measured depth).
     pub fn apply(&mut self, filled: &[u16], ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
-        assert!(filled.len() == PIXELS && ir.len() == PIXELS && rgb.len() == PIXELS && mm.len() == PIXELS);
+        assert!(
+            filled.len() == PIXELS
+                && ir.len() == PIXELS
+                && rgb.len() == PIXELS
+                && mm.len() == PIXELS
+        );
         #[cfg(target_arch = "x86_64")]
         if self.wide {
             // SAFETY: `wide` is only true when the CPU reported AVX2 and FMA at construction.
@@ -188,13 +195,18 @@ impl Warp {
         for block in (0..WIDTH - 1).step_by(16) {
             let end = (block + 16).min(WIDTH - 1);
             let r = &filled[block..=end];
-            if !r.iter().zip(&r[1..]).fold(false, |any, (&a, &b)| any | (i32::from(b) - i32::from(a) >= jump)) {
+            if !r.iter().zip(&r[1..]).fold(false, |any, (&a, &b)| {
+                any | (i32::from(b) - i32::from(a) >= jump)
+            }) {
                 continue;
             }
             for u in block..end {
                 // Background the RGB camera sees there is a hole anyway when the surface beyond the
                 // edge is one (beyond range, black): that is OTHER, which empty pixels become.
-                if i32::from(filled[u + 1]) - i32::from(filled[u]) >= jump && self.keys[u + 1] != EMPTY && ir[u + 1] != OTHER {
+                if i32::from(filled[u + 1]) - i32::from(filled[u]) >= jump
+                    && self.keys[u + 1] != EMPTY
+                    && ir[u + 1] != OTHER
+                {
                     self.mark_gap(v, u, filled);
                 }
             }
@@ -267,13 +279,21 @@ fn fill_cracks_row(cur: &mut [u32], above: Option<&[u32]>, below: Option<&[u32]>
     };
     let last = cur.iter().rposition(|&k| k != EMPTY).unwrap();
     // Most rows have no crack: a branch-free count lets them skip the scan.
-    if cur[first..last].iter().fold(0u32, |n, &k| n + u32::from(k == EMPTY)) == 0 {
+    if cur[first..last]
+        .iter()
+        .fold(0u32, |n, &k| n + u32::from(k == EMPTY))
+        == 0
+    {
         return;
     }
     let mut u = first + 1;
     while u < last {
         // Skip filled stretches 16 pixels at a time (branch-free test).
-        if u + 16 <= last && !cur[u..u + 16].iter().fold(false, |any, &k| any | (k == EMPTY)) {
+        if u + 16 <= last
+            && !cur[u..u + 16]
+                .iter()
+                .fold(false, |any, &k| any | (k == EMPTY))
+        {
             u += 16;
             continue;
         }
@@ -369,7 +389,11 @@ mod tests {
             for u in 41..609 {
                 let i = v * WIDTH + u;
                 assert_eq!(out.rgb_labels[i], VALID, "crack at ({u}, {v})");
-                assert!((out.registered_mm[i] as i32 - 2000).abs() < 10, "{}", out.registered_mm[i]);
+                assert!(
+                    (out.registered_mm[i] as i32 - 2000).abs() < 10,
+                    "{}",
+                    out.registered_mm[i]
+                );
             }
         }
         // The IR camera's field of view ends inside the RGB image: the border outside it is OTHER.
@@ -397,16 +421,34 @@ mod tests {
         Classifier::new(&c).classify(&raw, &mut out);
         let predicted = c.rgb.fx * 0.025 * (1.0 - 1.0 / 3.0);
         let row = 250 * WIDTH;
-        let strip = out.rgb_labels[row..row + WIDTH].iter().filter(|&&l| l == ALIGNMENT).count() as f64;
-        assert!((strip - predicted).abs() <= 1.5, "strip {strip} px, predicted {predicted:.1}");
+        let strip = out.rgb_labels[row..row + WIDTH]
+            .iter()
+            .filter(|&&l| l == ALIGNMENT)
+            .count() as f64;
+        assert!(
+            (strip - predicted).abs() <= 1.5,
+            "strip {strip} px, predicted {predicted:.1}"
+        );
         // The projector shadow carries over, narrowed by the RGB camera's own viewpoint to about
         // f_rgb·(0.075 − 0.025)·(1/1 − 1/3) px.
-        let shadow = out.rgb_labels[row..row + WIDTH].iter().filter(|&&l| l == ATTACHED).count() as f64;
+        let shadow = out.rgb_labels[row..row + WIDTH]
+            .iter()
+            .filter(|&&l| l == ATTACHED)
+            .count() as f64;
         let predicted = c.rgb.fx * 0.05 * (1.0 - 1.0 / 3.0);
-        assert!((shadow - predicted).abs() <= 2.0, "shadow {shadow} px, predicted {predicted:.1}");
+        assert!(
+            (shadow - predicted).abs() <= 2.0,
+            "shadow {shadow} px, predicted {predicted:.1}"
+        );
         // Alignment pixels sit right of the box, attached ones left of it.
-        let first_align = out.rgb_labels[row..row + WIDTH].iter().position(|&l| l == ALIGNMENT).unwrap();
-        let last_attached = out.rgb_labels[row..row + WIDTH].iter().rposition(|&l| l == ATTACHED).unwrap();
+        let first_align = out.rgb_labels[row..row + WIDTH]
+            .iter()
+            .position(|&l| l == ALIGNMENT)
+            .unwrap();
+        let last_attached = out.rgb_labels[row..row + WIDTH]
+            .iter()
+            .rposition(|&l| l == ATTACHED)
+            .unwrap();
         assert!(first_align > last_attached + 100);
     }
 }

@@ -25,7 +25,12 @@ pub struct Params {
 
 impl Default for Params {
     fn default() -> Self {
-        Params { min_step_px: 1.0, attached_over_px: 8.0, detached_tol_px: 4.0, max_island_px: 2 }
+        Params {
+            min_step_px: 1.0,
+            attached_over_px: 8.0,
+            detached_tol_px: 4.0,
+            max_island_px: 2,
+        }
     }
 }
 
@@ -42,7 +47,11 @@ pub struct Classified {
 
 impl Default for Classified {
     fn default() -> Self {
-        Classified { ir_labels: vec![0; PIXELS], rgb_labels: vec![0; PIXELS], registered_mm: vec![0; PIXELS] }
+        Classified {
+            ir_labels: vec![0; PIXELS],
+            rgb_labels: vec![0; PIXELS],
+            registered_mm: vec![0; PIXELS],
+        }
     }
 }
 
@@ -74,6 +83,11 @@ impl Classifier {
     pub fn classify(&mut self, raw: &[u16], out: &mut Classified) {
         assert_eq!(raw.len(), PIXELS, "a frame has 640x480 raw values");
         scanline::classify_frame(&self.scan, raw, &mut out.ir_labels, &mut self.filled);
-        self.warp.apply(&self.filled, &out.ir_labels, &mut out.rgb_labels, &mut out.registered_mm);
+        self.warp.apply(
+            &self.filled,
+            &out.ir_labels,
+            &mut out.rgb_labels,
+            &mut out.registered_mm,
+        );
     }
 }

@@ -90,9 +90,20 @@ fn classify_frame_body(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &
     // the left border, where the row itself has no Sa.
     let mut column_memory = [NO_DEPTH; WIDTH];
     let far = farthest_measured(raw);
-    let rows = raw.chunks_exact(WIDTH).zip(labels.chunks_exact_mut(WIDTH)).zip(filled.chunks_exact_mut(WIDTH));
+    let rows = raw
+        .chunks_exact(WIDTH)
+        .zip(labels.chunks_exact_mut(WIDTH))
+        .zip(filled.chunks_exact_mut(WIDTH));
     for (v, ((row, lab), fill)) in rows.enumerate() {
-        classify_row(p, row, &column_memory, &raw[(v + 1) * WIDTH..], far, lab, fill);
+        classify_row(
+            p,
+            row,
+            &column_memory,
+            &raw[(v + 1) * WIDTH..],
+            far,
+            lab,
+            fill,
+        );
         for (m, &r) in column_memory.iter_mut().zip(row) {
             *m = if r != NO_DEPTH { r } else { *m };
         }
@@ -112,7 +123,13 @@ pub fn farthest_measured(raw: &[u16]) -> u16 {
     // Sixteen independent lanes: a single running max is a serial chain the compiler keeps scalar.
     let mut lanes = [0u16; 16];
     let chunks = raw.chunks_exact(16);
-    let tail = chunks.remainder().iter().copied().filter(|&r| r != NO_DEPTH).max().unwrap_or(0);
+    let tail = chunks
+        .remainder()
+        .iter()
+        .copied()
+        .filter(|&r| r != NO_DEPTH)
+        .max()
+        .unwrap_or(0);
     for chunk in chunks {
         for (m, &r) in lanes.iter_mut().zip(chunk) {
             *m = (*m).max(if r == NO_DEPTH { 0 } else { r });
@@ -127,7 +144,15 @@ pub fn farthest_measured(raw: &[u16]) -> u16 {
 /// frame's [`farthest_measured`] raw value.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub fn classify_row(p: &ScanParams, raw: &[u16], above: &[u16], below: &[u16], far: u16, labels: &mut [u8], filled: &mut [u16]) {
+pub fn classify_row(
+    p: &ScanParams,
+    raw: &[u16],
+    above: &[u16],
+    below: &[u16],
+    far: u16,
+    labels: &mut [u8],
+    filled: &mut [u16],
+) {
     let n = raw.len();
     filled.copy_from_slice(raw);
     for (l, &r) in labels.iter_mut().zip(raw) {
@@ -167,8 +192,16 @@ fn snap_flying_pixels(p: &ScanParams, raw: &[u16], filled: &mut [u16]) {
         let (lo, hi) = (a.min(b), a.max(b));
         // Strictly between two valid sides a full edge step apart, and clear of both; holes
         // (2047) are the largest value, so `hi < NO_DEPTH` and `m < NO_DEPTH` exclude them.
-        let flying = (hi < NO_DEPTH) & (m < NO_DEPTH) & (hi.wrapping_sub(lo) >= big) & (m >= lo + quarter) & (m.wrapping_add(quarter) <= hi);
-        let nearer = if m.wrapping_sub(lo) <= hi.wrapping_sub(m) { lo } else { hi };
+        let flying = (hi < NO_DEPTH)
+            & (m < NO_DEPTH)
+            & (hi.wrapping_sub(lo) >= big)
+            & (m >= lo + quarter)
+            & (m.wrapping_add(quarter) <= hi);
+        let nearer = if m.wrapping_sub(lo) <= hi.wrapping_sub(m) {
+            lo
+        } else {
+            hi
+        };
         *f = if flying { nearer } else { *f };
     }
 }
@@ -188,7 +221,12 @@ struct Bound {
 fn bound_left(raw: &[u16], start: usize) -> Bound {
     let edge = raw[start - 1];
     let (mut far, mut near) = (edge, edge);
-    for &r in raw[..start - 1].iter().rev().take(2).take_while(|&&r| r != NO_DEPTH) {
+    for &r in raw[..start - 1]
+        .iter()
+        .rev()
+        .take(2)
+        .take_while(|&&r| r != NO_DEPTH)
+    {
         far = far.max(r);
         near = near.min(r);
     }
@@ -198,7 +236,11 @@ fn bound_left(raw: &[u16], start: usize) -> Bound {
 fn bound_right(raw: &[u16], end: usize) -> Bound {
     let edge = raw[end];
     let (mut far, mut near) = (edge, edge);
-    for &r in raw[end + 1..].iter().take(2).take_while(|&&r| r != NO_DEPTH) {
+    for &r in raw[end + 1..]
+        .iter()
+        .take(2)
+        .take_while(|&&r| r != NO_DEPTH)
+    {
         far = far.max(r);
         near = near.min(r);
     }
@@ -210,10 +252,17 @@ fn bound_right(raw: &[u16], end: usize) -> Bound {
 #[inline(always)]
 fn next_hole(raw: &[u16], from: usize) -> Option<usize> {
     let mut u = from;
-    while u + 16 <= raw.len() && !raw[u..u + 16].iter().fold(false, |any, &r| any | (r == NO_DEPTH)) {
+    while u + 16 <= raw.len()
+        && !raw[u..u + 16]
+            .iter()
+            .fold(false, |any, &r| any | (r == NO_DEPTH))
+    {
         u += 16;
     }
-    raw[u..].iter().position(|&r| r == NO_DEPTH).map(|off| u + off)
+    raw[u..]
+        .iter()
+        .position(|&r| r == NO_DEPTH)
+        .map(|off| u + off)
 }
 
 #[inline(always)]
@@ -225,8 +274,14 @@ fn find_holes(raw: &[u16], out: &mut [Run; MAX_RUNS]) -> usize {
         match next_hole(raw, u) {
             None => break,
             Some(start) => {
-                let len = raw[start..].iter().position(|&r| r != NO_DEPTH).unwrap_or(n - start);
-                out[count] = Run { start, end: start + len };
+                let len = raw[start..]
+                    .iter()
+                    .position(|&r| r != NO_DEPTH)
+                    .unwrap_or(n - start);
+                out[count] = Run {
+                    start,
+                    end: start + len,
+                };
                 count += 1;
                 u = start + len;
             }
@@ -281,7 +336,16 @@ fn fill(filled: &mut [u16], h: Run, value: u16) {
 
 /// A hole with valid pixels on both sides.
 #[allow(clippy::too_many_arguments)]
-fn classify_bounded(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound, far: u16, labels: &mut [u8], filled: &mut [u16]) {
+fn classify_bounded(
+    p: &ScanParams,
+    raw: &[u16],
+    h: Run,
+    sa: Bound,
+    sb: Bound,
+    far: u16,
+    labels: &mut [u8],
+    filled: &mut [u16],
+) {
     // Shadows lie on the background, so fill with the farther side's depth.
     fill(filled, h, sa.far.max(sb.far));
     // Eq. (3): the attached shadow of Sb on the surface of Sa is w = disp(Sb) − disp(Sa) wide.
@@ -328,7 +392,11 @@ fn beyond_range(raw: &[u16], h: Run, far: u16, labels: &mut [u8]) {
     // The baseline stays on Sa's surface: it stops at holes and at steps of more than 4 raw units
     // (half a pixel of disparity), so a depth edge left of Sa cannot fake a steep slope.
     let mut k = 0;
-    while k < SPAN && a > k && raw[a - k - 1] != NO_DEPTH && raw[a - k].abs_diff(raw[a - k - 1]) <= 4 {
+    while k < SPAN
+        && a > k
+        && raw[a - k - 1] != NO_DEPTH
+        && raw[a - k].abs_diff(raw[a - k - 1]) <= 4
+    {
         k += 1;
     }
     if k < 4 {
@@ -366,7 +434,9 @@ fn detached(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> Option
         // Most of the search crosses plain background: skip 16 pixels at a time when none of
         // them is foreground or a hole (branch-free test, vectorised), trying once per block.
         if u >= next_skip && u + 16 <= stop {
-            let clean = raw[u..u + 16].iter().fold(true, |ok, &r| ok & !is_fg(r) & (r != NO_DEPTH));
+            let clean = raw[u..u + 16]
+                .iter()
+                .fold(true, |ok, &r| ok & !is_fg(r) & (r != NO_DEPTH));
             if clean {
                 gap_holes = 0;
                 u += 16;
@@ -392,7 +462,9 @@ fn detached(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> Option
                 fb += 1;
             }
             let d_fa = p.disp(raw[fa]).max(p.disp(raw[(fa + 1).min(fb)]));
-            let d_fb = p.disp(raw[fb]).max(p.disp(raw[fb.saturating_sub(1).max(fa)]));
+            let d_fb = p
+                .disp(raw[fb])
+                .max(p.disp(raw[fb.saturating_sub(1).max(fa)]));
             // Eq. (4): Fa − Sa = w_s + w_b; eq. (5): Fb − Sb = w_b + w_f (pixel positions).
             let e4 = (fa as f32 - (h.start as f32 - 1.0)) - (d_fa - d_sa);
             let e5 = (fb as f32 - h.end as f32) - (d_fb - d_sb);
@@ -412,12 +484,34 @@ fn detached(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> Option
 /// background usually continues behind it), and the nearest valid pixels above and below in the
 /// hole's columns. The farthest estimate wins: the shadow lies on the background.
 #[allow(clippy::too_many_arguments)]
-fn classify_left_border(p: &ScanParams, raw: &[u16], h: Run, sb: Bound, above: &[u16], below: &[u16], labels: &mut [u8], filled: &mut [u16]) {
+fn classify_left_border(
+    p: &ScanParams,
+    raw: &[u16],
+    h: Run,
+    sb: Bound,
+    above: &[u16],
+    below: &[u16],
+    labels: &mut [u8],
+    filled: &mut [u16],
+) {
     const LOOK_DOWN: usize = 120;
-    let from_above = above[h.start..h.end].iter().copied().filter(|&r| r != NO_DEPTH).max();
-    let down = |col: usize| below.chunks_exact(WIDTH).take(LOOK_DOWN).map(|row| row[col]).find(|&r| r != NO_DEPTH);
+    let from_above = above[h.start..h.end]
+        .iter()
+        .copied()
+        .filter(|&r| r != NO_DEPTH)
+        .max();
+    let down = |col: usize| {
+        below
+            .chunks_exact(WIDTH)
+            .take(LOOK_DOWN)
+            .map(|row| row[col])
+            .find(|&r| r != NO_DEPTH)
+    };
     let from_below = down(h.start).max(down(h.end - 1));
-    let bg = [from_above, from_below, background_right_of(p, raw, h.end)].into_iter().flatten().max();
+    let bg = [from_above, from_below, background_right_of(p, raw, h.end)]
+        .into_iter()
+        .flatten()
+        .max();
     let Some(bg) = bg else {
         fill(filled, h, sb.far);
         return;
@@ -443,7 +537,12 @@ fn background_right_of(p: &ScanParams, raw: &[u16], start: usize) -> Option<u16>
             let step = p.disp(last) - p.disp(r);
             if step >= p.min_step {
                 // Falling edge: robust background from up to three pixels past it.
-                return raw[u..].iter().take(3).take_while(|&&r| r != NO_DEPTH).copied().max();
+                return raw[u..]
+                    .iter()
+                    .take(3)
+                    .take_while(|&&r| r != NO_DEPTH)
+                    .copied()
+                    .max();
             }
             if step <= -p.min_step {
                 return None; // something nearer still: no background in sight
@@ -474,8 +573,19 @@ mod tests {
         let (_, p) = params();
         let mut labels = vec![ALIGNMENT; row.len()];
         let mut filled = vec![0; row.len()];
-        classify_row(&p, row, &[NO_DEPTH; WIDTH], &[], 2046, &mut labels, &mut filled);
-        assert!(filled.iter().all(|&f| f < NO_DEPTH), "every hole gets an assumed depth");
+        classify_row(
+            &p,
+            row,
+            &[NO_DEPTH; WIDTH],
+            &[],
+            2046,
+            &mut labels,
+            &mut filled,
+        );
+        assert!(
+            filled.iter().all(|&f| f < NO_DEPTH),
+            "every hole gets an assumed depth"
+        );
         labels
     }
 
@@ -501,7 +611,11 @@ mod tests {
         for extra in [0, 2, 6] {
             let (row, start, edge) = box_row(extra);
             let l = run(&row);
-            assert!(l[start..edge].iter().all(|&x| x == ATTACHED), "extra {extra}: {:?}", &l[start..edge]);
+            assert!(
+                l[start..edge].iter().all(|&x| x == ATTACHED),
+                "extra {extra}: {:?}",
+                &l[start..edge]
+            );
             assert!(l[..start].iter().chain(&l[edge..]).all(|&x| x == VALID));
         }
     }
@@ -553,7 +667,11 @@ mod tests {
             *r = NO_DEPTH;
         }
         let l = run(&row);
-        assert!(l[fa - w..=fb - w].iter().all(|&x| x == DETACHED), "{:?}", &l[fa - w - 1..=fb - w + 1]);
+        assert!(
+            l[fa - w..=fb - w].iter().all(|&x| x == DETACHED),
+            "{:?}",
+            &l[fa - w - 1..=fb - w + 1]
+        );
     }
 
     #[test]
@@ -585,15 +703,39 @@ mod tests {
         }
         let far = *row[..start].iter().max().unwrap();
         let (mut labels, mut filled) = (vec![0; WIDTH], vec![0; WIDTH]);
-        classify_row(&p, &row, &[NO_DEPTH; WIDTH], &[], far, &mut labels, &mut filled);
+        classify_row(
+            &p,
+            &row,
+            &[NO_DEPTH; WIDTH],
+            &[],
+            far,
+            &mut labels,
+            &mut filled,
+        );
         // slope 1/6 raw per px: within 0.5 raw of `far` for the first 3 pixels.
-        assert!(labels[start..start + 3].iter().all(|&x| x == ATTACHED), "{:?}", &labels[start..end]);
-        assert!(labels[start + 4..end].iter().all(|&x| x == OTHER), "{:?}", &labels[start..end]);
+        assert!(
+            labels[start..start + 3].iter().all(|&x| x == ATTACHED),
+            "{:?}",
+            &labels[start..end]
+        );
+        assert!(
+            labels[start + 4..end].iter().all(|&x| x == OTHER),
+            "{:?}",
+            &labels[start..end]
+        );
         // The same hole on a level wall is all shadow.
         let mut level = vec![1014u16; WIDTH];
         level[start..end].fill(NO_DEPTH);
         level[end..].fill(806);
-        classify_row(&p, &level, &[NO_DEPTH; WIDTH], &[], 1014, &mut labels, &mut filled);
+        classify_row(
+            &p,
+            &level,
+            &[NO_DEPTH; WIDTH],
+            &[],
+            1014,
+            &mut labels,
+            &mut filled,
+        );
         assert!(labels[start..end].iter().all(|&x| x == ATTACHED));
     }
 
@@ -606,7 +748,15 @@ mod tests {
         row[200] = 830;
         row[300] = 880; // a gentle slope step elsewhere is no flying pixel
         let (mut labels, mut filled) = (vec![0; WIDTH], vec![0; WIDTH]);
-        classify_row(&p, &row, &[NO_DEPTH; WIDTH], &[], 900, &mut labels, &mut filled);
+        classify_row(
+            &p,
+            &row,
+            &[NO_DEPTH; WIDTH],
+            &[],
+            900,
+            &mut labels,
+            &mut filled,
+        );
         assert_eq!(filled[200], 800);
         assert_eq!(labels[200], VALID, "the measured pixel keeps its label");
         assert_eq!(filled[300], 880);
@@ -619,7 +769,10 @@ mod tests {
         row[start + 10] = row[0]; // one spurious wall pixel inside the shadow
         let l = run(&row);
         assert_eq!(l[start + 10], VALID);
-        assert!(l[start..edge].iter().enumerate().all(|(i, &x)| i == 10 || x == ATTACHED));
+        assert!(l[start..edge]
+            .iter()
+            .enumerate()
+            .all(|(i, &x)| i == 10 || x == ATTACHED));
     }
 
     #[test]
@@ -647,13 +800,32 @@ mod tests {
         }
         let mut labels = vec![0; WIDTH];
         let mut filled = vec![0; WIDTH];
-        classify_row(&p, &row, &[wall; WIDTH], &[], 2046, &mut labels, &mut filled);
+        classify_row(
+            &p,
+            &row,
+            &[wall; WIDTH],
+            &[],
+            2046,
+            &mut labels,
+            &mut filled,
+        );
         assert!(labels[..20].iter().all(|&x| x == ATTACHED));
         for r in &mut row[200..] {
             *r = raw_at(&c, 1.0); // the occluder reaches the right border: no background beside it
         }
-        classify_row(&p, &row, &[NO_DEPTH; WIDTH], &[], 2046, &mut labels, &mut filled);
-        assert!(labels[..20].iter().all(|&x| x == OTHER), "no background known: cannot tell");
+        classify_row(
+            &p,
+            &row,
+            &[NO_DEPTH; WIDTH],
+            &[],
+            2046,
+            &mut labels,
+            &mut filled,
+        );
+        assert!(
+            labels[..20].iter().all(|&x| x == OTHER),
+            "no background known: cannot tell"
+        );
     }
 
     #[test]
@@ -669,7 +841,19 @@ mod tests {
             *r = NO_DEPTH; // 8 of the pole's 17 px shadow
         }
         let (mut labels, mut filled) = (vec![0; WIDTH], vec![0; WIDTH]);
-        classify_row(&p, &row, &[raw_at(&c, 1.45); WIDTH], &[], 2046, &mut labels, &mut filled);
-        assert!(labels[..8].iter().all(|&x| x == ATTACHED), "{:?}", &labels[..10]);
+        classify_row(
+            &p,
+            &row,
+            &[raw_at(&c, 1.45); WIDTH],
+            &[],
+            2046,
+            &mut labels,
+            &mut filled,
+        );
+        assert!(
+            labels[..8].iter().all(|&x| x == ATTACHED),
+            "{:?}",
+            &labels[..10]
+        );
     }
 }

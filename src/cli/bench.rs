@@ -70,7 +70,12 @@ pub enum What {
 pub fn run(a: Args) -> Result<()> {
     match a.what {
         What::Receive { source, seconds } => receive(&source, seconds),
-        What::Zstd { rec, level, rgb, repeat } => zstd_floor(rec, level, rgb, repeat),
+        What::Zstd {
+            rec,
+            level,
+            rgb,
+            repeat,
+        } => zstd_floor(rec, level, rgb, repeat),
     }
 }
 
@@ -78,7 +83,11 @@ fn receive(source: &str, seconds: f64) -> Result<()> {
     let which = match source.split_once(':') {
         None if source == "kinect" => Selector::Index(0),
         Some(("kinect", w)) => w.parse()?,
-        _ => return Err(Error::Usage(format!("--source {source:?}: expected kinect, kinect:INDEX or kinect:SERIAL"))),
+        _ => {
+            return Err(Error::Usage(format!(
+                "--source {source:?}: expected kinect, kinect:INDEX or kinect:SERIAL"
+            )))
+        }
     };
     let stop = Arc::new(AtomicBool::new(false));
     let cpu0 = process_cpu_time();
@@ -117,7 +126,8 @@ fn zstd_floor(dir: PathBuf, level: i32, rgb: bool, repeat: u64) -> Result<()> {
     let rec = Recording::open(&dir)?;
     let mut classifier = Classifier::new(rec.calibration());
     let mut source = ReplaySource::new(rec, rgb).repeat(repeat.max(1));
-    let mut compressor = zstd::bulk::Compressor::new(level).map_err(|e| Error::Usage(format!("zstd level {level}: {e}")))?;
+    let mut compressor = zstd::bulk::Compressor::new(level)
+        .map_err(|e| Error::Usage(format!("zstd level {level}: {e}")))?;
     let mut frame = Frame::default();
     let (mut bytes, mut out, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
     let (mut n, mut raw_total, mut packed_total, mut cpu) = (0u64, 0usize, 0usize, Duration::ZERO);
@@ -127,7 +137,9 @@ fn zstd_floor(dir: PathBuf, level: i32, rgb: bool, repeat: u64) -> Result<()> {
         out.clear();
         out.reserve(zstd::zstd_safe::compress_bound(bytes.len()));
         let t = thread_cpu_time();
-        let packed = compressor.compress_to_buffer(&bytes, &mut out).map_err(|e| Error::Usage(format!("zstd: {e}")))?;
+        let packed = compressor
+            .compress_to_buffer(&bytes, &mut out)
+            .map_err(|e| Error::Usage(format!("zstd: {e}")))?;
         cpu += thread_cpu_time().saturating_sub(t);
         n += 1;
         raw_total += bytes.len();
@@ -150,11 +162,36 @@ fn frame_bytes(frame: &Frame, rgb: bool, out: &mut Vec<u8>, scratch: &mut Vec<u8
     out.clear();
     let (sec, nanosec) = ros2::stamp(frame.unix_time);
     let w = WIDTH as u32;
-    let image = |frame_id, encoding, bytes_pp: u32| ImageHeader { sec, nanosec, frame_id, height: HEIGHT as u32, width: w, encoding, is_bigendian: 0, step: w * bytes_pp };
-    ros2::encode_image(&image(DEPTH_FRAME_ID, "16UC1", 2), Pixels::U16(&frame.depth), out);
-    ros2::encode_image(&image(DEPTH_FRAME_ID, "mono8", 1), Pixels::U8(&frame.labels.ir_labels), out);
-    ros2::encode_image(&image(RGB_FRAME_ID, "16UC1", 2), Pixels::U16(&frame.labels.registered_mm), out);
-    ros2::encode_image(&image(RGB_FRAME_ID, "mono8", 1), Pixels::U8(&frame.labels.rgb_labels), out);
+    let image = |frame_id, encoding, bytes_pp: u32| ImageHeader {
+        sec,
+        nanosec,
+        frame_id,
+        height: HEIGHT as u32,
+        width: w,
+        encoding,
+        is_bigendian: 0,
+        step: w * bytes_pp,
+    };
+    ros2::encode_image(
+        &image(DEPTH_FRAME_ID, "16UC1", 2),
+        Pixels::U16(&frame.depth),
+        out,
+    );
+    ros2::encode_image(
+        &image(DEPTH_FRAME_ID, "mono8", 1),
+        Pixels::U8(&frame.labels.ir_labels),
+        out,
+    );
+    ros2::encode_image(
+        &image(RGB_FRAME_ID, "16UC1", 2),
+        Pixels::U16(&frame.labels.registered_mm),
+        out,
+    );
+    ros2::encode_image(
+        &image(RGB_FRAME_ID, "mono8", 1),
+        Pixels::U8(&frame.labels.rgb_labels),
+        out,
+    );
     if rgb && frame.has_rgb {
         ros2::encode_image(&image(RGB_FRAME_ID, "rgb8", 3), Pixels::U8(&frame.rgb), out);
     }

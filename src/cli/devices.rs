@@ -19,11 +19,17 @@ pub fn run(_: Args) -> Result<()> {
     let ctx = Context::init(lib)?;
     let n = ctx.num_devices()?;
     let serials = ctx.serials();
-    let from = if lib.fakenect { format!("{} (fakenect replay)", lib.name) } else { lib.name.clone() };
+    let from = if lib.fakenect {
+        format!("{} (fakenect replay)", lib.name)
+    } else {
+        lib.name.clone()
+    };
     println!("{n} Kinect(s) found through {from}");
     for i in 0..n as usize {
         match serials.get(i) {
-            Some(s) => println!("  --source kinect:{i}   --source kinect:{s}   (camera serial {s})"),
+            Some(s) => {
+                println!("  --source kinect:{i}   --source kinect:{s}   (camera serial {s})")
+            }
             None => println!("  --source kinect:{i}   (serial not available)"),
         }
     }

@@ -9,11 +9,11 @@ use indicatif::ProgressBar;
 use crate::classify::{Classified, Classifier};
 use crate::error::{Error, Result};
 use crate::eval::{read_category, Report, SegReport, SegTally, Tally};
+use crate::labels::PIXELS;
+use crate::recording::Recording;
 use crate::segment::files::{mask_path, read_mask_png};
 use crate::segment::{Params as SegParams, SeedMode, Segmenter, BG, FG};
 use crate::sink::labels::{read_label_png, write_label_png};
-use crate::labels::PIXELS;
-use crate::recording::Recording;
 
 /// Arguments of `umbra eval`.
 #[derive(clap::Args, Debug)]
@@ -55,9 +55,16 @@ const GRID_GAP: [f32; 4] = [0.0, 0.25, 0.5, 1.0];
 /// The threshold pairs to try: the one given, or the grid.
 fn threshold_pairs(a: &Args) -> Result<Vec<(f32, f32)>> {
     match (a.tf, a.tb) {
-        (Some(tf), Some(tb)) if tf.is_finite() && tb.is_finite() && tf > 0.0 && tb >= tf => Ok(vec![(tf, tb)]),
-        (Some(tf), Some(tb)) => Err(Error::Usage(format!("--tf {tf} --tb {tb}: expected 0 < Tf <= Tb (metres)"))),
-        _ => Ok(GRID_TF.iter().flat_map(|&tf| GRID_GAP.iter().map(move |&g| (tf, tf + g))).collect()),
+        (Some(tf), Some(tb)) if tf.is_finite() && tb.is_finite() && tf > 0.0 && tb >= tf => {
+            Ok(vec![(tf, tb)])
+        }
+        (Some(tf), Some(tb)) => Err(Error::Usage(format!(
+            "--tf {tf} --tb {tb}: expected 0 < Tf <= Tb (metres)"
+        ))),
+        _ => Ok(GRID_TF
+            .iter()
+            .flat_map(|&tf| GRID_GAP.iter().map(move |&g| (tf, tf + g)))
+            .collect()),
     }
 }
 
@@ -74,10 +81,14 @@ struct SegWork {
 
 impl SegWork {
     fn new(pairs: Vec<(f32, f32)>) -> Self {
-        let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).clamp(1, pairs.len().max(1));
+        let threads = std::thread::available_parallelism()
+            .map_or(1, |n| n.get())
+            .clamp(1, pairs.len().max(1));
         SegWork {
             shadow: Segmenter::new(SegParams::default()),
-            workers: (0..threads).map(|_| Segmenter::new(SegParams::default())).collect(),
+            workers: (0..threads)
+                .map(|_| Segmenter::new(SegParams::default()))
+                .collect(),
             pairs,
             rgb: vec![0; 3 * PIXELS],
             gt: vec![0; PIXELS],
@@ -86,11 +97,23 @@ impl SegWork {
     }
 
     /// Segments one frame with shadow seeds and every threshold pair; adds to the tallies.
-    fn frame(&mut self, name: &str, i: usize, classified: &Classified, shadow: &mut SegTally, threshold: &mut [SegTally]) {
+    fn frame(
+        &mut self,
+        name: &str,
+        i: usize,
+        classified: &Classified,
+        shadow: &mut SegTally,
+        threshold: &mut [SegTally],
+    ) {
         self.shadow.segment(&self.rgb, classified, &mut self.mask);
         let mut one = SegTally::default();
         one.add_frame(&self.gt, &self.mask, self.shadow.seeds(), FG, BG);
-        tracing::info!("{name} frame {i}: shadow seeds IoU {:.3}, seed precision {:.3} of {}", one.iou_sum, one.seed_precision().unwrap_or(0.0), one.seeds);
+        tracing::info!(
+            "{name} frame {i}: shadow seeds IoU {:.3}, seed precision {:.3} of {}",
+            one.iou_sum,
+            one.seed_precision().unwrap_or(0.0),
+            one.seeds
+        );
         shadow.merge(&one);
         let n = self.workers.len();
         let (rgb, gt, pairs) = (&self.rgb, &self.gt, &self.pairs);
@@ -139,11 +162,16 @@ pub fn run(a: Args) -> Result<()> {
     let total: u64 = jobs.iter().map(|j| j.rec.len() as u64).sum();
     let bar = super::progress_bar(total, "frames");
     let mut report = Report::default();
-    let mut seg = if a.segment { Some(SegWork::new(threshold_pairs(&a)?)) } else { None };
+    let mut seg = if a.segment {
+        Some(SegWork::new(threshold_pairs(&a)?))
+    } else {
+        None
+    };
     let mut seg_report = seg.as_ref().map(|w| SegReport::new(w.pairs.clone()));
     for job in &jobs {
         bar.set_prefix(job.name.clone());
-        let (tally, seg_tally) = score(job, params, seg.as_mut(), &bar).inspect_err(|_| bar.abandon())?;
+        let (tally, seg_tally) =
+            score(job, params, seg.as_mut(), &bar).inspect_err(|_| bar.abandon())?;
         let category = read_category(&job.gt.join("meta.toml"))?;
         report.add_recording(job.name.clone(), category, tally);
         if let (Some(r), Some((shadow, thr))) = (seg_report.as_mut(), seg_tally) {
@@ -171,7 +199,11 @@ pub fn run(a: Args) -> Result<()> {
 fn plan(a: &Args) -> Result<Vec<Job>> {
     if let Some(dir) = &a.export_labels {
         // Exported labels use the ground truth's file names: never let them overwrite it.
-        if dir.canonicalize().ok().is_some_and(|d| a.gt.canonicalize().ok() == Some(d)) {
+        if dir
+            .canonicalize()
+            .ok()
+            .is_some_and(|d| a.gt.canonicalize().ok() == Some(d))
+        {
             return Err(Error::Usage(format!(
                 "--export-labels {} is the --gt folder: writing there would overwrite the ground truth; pick another folder",
                 dir.display()
@@ -179,11 +211,20 @@ fn plan(a: &Args) -> Result<Vec<Job>> {
         }
     }
     if a.recording.join("INDEX.txt").is_file() {
-        let name = a.recording.file_name().map_or_else(|| a.recording.display().to_string(), |n| n.to_string_lossy().into_owned());
+        let name = a.recording.file_name().map_or_else(
+            || a.recording.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
         let rec = Recording::open(&a.recording)?;
-        return Ok(vec![Job { name, rec, gt: a.gt.clone(), export: a.export_labels.clone() }]);
+        return Ok(vec![Job {
+            name,
+            rec,
+            gt: a.gt.clone(),
+            export: a.export_labels.clone(),
+        }]);
     }
-    let entries = std::fs::read_dir(&a.recording).map_err(|e| Error::io(&a.recording, "listing", e))?;
+    let entries =
+        std::fs::read_dir(&a.recording).map_err(|e| Error::io(&a.recording, "listing", e))?;
     let mut names = Vec::new();
     for entry in entries {
         let entry = entry.map_err(|e| Error::io(&a.recording, "listing", e))?;
@@ -205,10 +246,19 @@ fn plan(a: &Args) -> Result<Vec<Job>> {
             let rec = Recording::open(&a.recording.join(&name))?;
             let gt = a.gt.join(&name);
             if !gt.is_dir() {
-                return Err(Error::input(&gt, "", format!("missing: expected ground truth for recording {name} in this folder")));
+                return Err(Error::input(
+                    &gt,
+                    "",
+                    format!("missing: expected ground truth for recording {name} in this folder"),
+                ));
             }
             let export = a.export_labels.as_ref().map(|d| d.join(&name));
-            Ok(Job { name, rec, gt, export })
+            Ok(Job {
+                name,
+                rec,
+                gt,
+                export,
+            })
         })
         .collect()
 }
@@ -218,7 +268,12 @@ type SegScores = (SegTally, Vec<SegTally>);
 
 /// Classifies every frame of one recording and counts it against ground truth; with `seg`, also
 /// segments it and scores the masks.
-fn score(job: &Job, params: crate::classify::Params, mut seg: Option<&mut SegWork>, bar: &ProgressBar) -> Result<(Tally, Option<SegScores>)> {
+fn score(
+    job: &Job,
+    params: crate::classify::Params,
+    mut seg: Option<&mut SegWork>,
+    bar: &ProgressBar,
+) -> Result<(Tally, Option<SegScores>)> {
     if let Some(dir) = &job.export {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating", e))?;
     }
@@ -237,7 +292,11 @@ fn score(job: &Job, params: crate::classify::Params, mut seg: Option<&mut SegWor
             read_mask_png(&mask_path(&job.gt, i), &mut w.gt)?;
             if !job.rec.read_rgb(i, &mut w.rgb)? {
                 let index = job.rec.dir().join("INDEX.txt");
-                return Err(Error::input(index, "", format!("depth frame {i} has no RGB frame to segment (expected r-*.ppm lines)")));
+                return Err(Error::input(
+                    index,
+                    "",
+                    format!("depth frame {i} has no RGB frame to segment (expected r-*.ppm lines)"),
+                ));
             }
         }
         job.rec.read_depth(i, &mut raw)?;

@@ -53,9 +53,11 @@ pub enum Command {
 /// The progress bar every long-running subcommand shows on stderr (hidden when stderr is not a
 /// terminal, so logs and CI output stay clean).
 pub fn progress_bar(len: u64, unit: &str) -> indicatif::ProgressBar {
-    let style = indicatif::ProgressStyle::with_template(&format!("{{prefix}} [{{bar:30}}] {{pos}}/{{len}} {unit} {{per_sec}} eta {{eta}}"))
-        .expect("static template")
-        .progress_chars("=> ");
+    let style = indicatif::ProgressStyle::with_template(&format!(
+        "{{prefix}} [{{bar:30}}] {{pos}}/{{len}} {unit} {{per_sec}} eta {{eta}}"
+    ))
+    .expect("static template")
+    .progress_chars("=> ");
     indicatif::ProgressBar::new(len).with_style(style)
 }
 

@@ -39,17 +39,25 @@ pub struct Args {
 /// Runs `umbra record`; without --seconds or --frames it records until SIGINT/SIGTERM.
 pub fn run(a: Args) -> Result<()> {
     let SourceSpec::Kinect(which) = &a.source else {
-        return Err(Error::Usage("umbra record records a Kinect: --source kinect, kinect:INDEX or kinect:SERIAL".into()));
+        return Err(Error::Usage(
+            "umbra record records a Kinect: --source kinect, kinect:INDEX or kinect:SERIAL".into(),
+        ));
     };
     if let Some(s) = a.seconds {
         if !(s.is_finite() && s > 0.0) {
-            return Err(Error::Usage(format!("--seconds {s}: expected a positive number")));
+            return Err(Error::Usage(format!(
+                "--seconds {s}: expected a positive number"
+            )));
         }
     }
     if a.frames == Some(0) {
         return Err(Error::Usage("--frames 0: expected at least 1".into()));
     }
-    let override_calibration = a.calibration.as_deref().map(Calibration::load).transpose()?;
+    let override_calibration = a
+        .calibration
+        .as_deref()
+        .map(Calibration::load)
+        .transpose()?;
     // Refuse a used folder before touching the device; leave nothing behind if it cannot start.
     let existed = a.out.exists();
     let mut writer = RecordingWriter::create(&a.out)?;
@@ -71,7 +79,11 @@ pub fn run(a: Args) -> Result<()> {
     info!(calibration = %origin, out = %a.out.display(), "recording");
 
     let limit = a.seconds.map(Duration::from_secs_f64);
-    let bar = crate::cli::progress_bar(a.frames.unwrap_or_else(|| (a.seconds.unwrap_or(0.0) * 30.0).ceil() as u64), "depth frames");
+    let bar = crate::cli::progress_bar(
+        a.frames
+            .unwrap_or_else(|| (a.seconds.unwrap_or(0.0) * 30.0).ceil() as u64),
+        "depth frames",
+    );
     bar.set_prefix("record");
     let t0 = Instant::now();
     let mut ended = false;

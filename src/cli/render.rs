@@ -6,10 +6,10 @@ use image::ImageEncoder;
 
 use crate::classify::{Classified, Classifier};
 use crate::error::{Error, Result};
-use crate::sink::labels::write_atomically;
 use crate::labels::PIXELS;
 use crate::recording::Recording;
 use crate::render::render_panels;
+use crate::sink::labels::write_atomically;
 
 /// Arguments of `umbra render`.
 #[derive(clap::Args, Debug)]
@@ -33,7 +33,11 @@ pub fn run(a: Args) -> Result<()> {
     let rec = Recording::open(&a.recording)?;
     if a.frame >= rec.len() {
         let n = rec.len();
-        let valid = if n == 1 { "only --frame 0 exists".to_string() } else { format!("use --frame 0 to {}", n - 1) };
+        let valid = if n == 1 {
+            "only --frame 0 exists".to_string()
+        } else {
+            format!("use --frame 0 to {}", n - 1)
+        };
         return Err(Error::Usage(format!(
             "frame {} is out of range: {} has {n} depth frame{} ({valid})",
             a.frame,
@@ -51,7 +55,12 @@ pub fn run(a: Args) -> Result<()> {
 
     let mut png = Vec::new();
     image::codecs::png::PngEncoder::new(&mut png)
-        .write_image(img.as_raw(), img.width(), img.height(), image::ExtendedColorType::Rgb8)
+        .write_image(
+            img.as_raw(),
+            img.width(),
+            img.height(),
+            image::ExtendedColorType::Rgb8,
+        )
         .map_err(|e| Error::input(&a.out, "", format!("encoding PNG failed: {e}")))?;
     write_atomically(&a.out, &png)
 }

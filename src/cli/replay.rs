@@ -65,7 +65,9 @@ pub fn run(a: Args) -> crate::Result<()> {
     };
     let bar = super::progress_bar(rec.len() as u64, "frames");
     let source = Box::new(ReplaySource::new(rec, false));
-    let stats = pipeline::run(source, classifier, &mut sinks, Options::default(), |_| bar.inc(1));
+    let stats = pipeline::run(source, classifier, &mut sinks, Options::default(), |_| {
+        bar.inc(1)
+    });
     bar.finish_and_clear();
     let stats = stats?;
     print!("{}", summary(&stats));
@@ -77,7 +79,14 @@ pub fn run(a: Args) -> crate::Result<()> {
         // pretend it wrote everything.
         let lost = c.frames_lost.load(std::sync::atomic::Ordering::Relaxed);
         if lost > 0 {
-            return Err(crate::Error::input(dir, "", format!("{lost} of {} frames could not be written (see the warnings above)", stats.frames)));
+            return Err(crate::Error::input(
+                dir,
+                "",
+                format!(
+                    "{lost} of {} frames could not be written (see the warnings above)",
+                    stats.frames
+                ),
+            ));
         }
         println!("MCAP segments written to {}", dir.display());
     }

@@ -27,8 +27,8 @@ use crate::error::{Error, Result};
 use crate::pipeline::{self, Options, Stats, Telemetry};
 use crate::recording::Recording;
 use crate::service::{self, Extra, Reporter};
-use crate::sink::mcap::McapSink;
 use crate::sink::foreground::WithForeground;
+use crate::sink::mcap::McapSink;
 use crate::sink::{LabelExport, Sink, Tolerant};
 
 /// Arguments of `umbra run`. Flags override the `[run]` keys of the config file.
@@ -82,21 +82,37 @@ impl Settings {
             None => r.source.parse()?,
         };
         let out = a.out.clone().or_else(|| r.out.clone()).ok_or_else(|| {
-            Error::Usage("no output folder: pass --out DIR or set run.out in the config file".into())
+            Error::Usage(
+                "no output folder: pass --out DIR or set run.out in the config file".into(),
+            )
         })?;
         check_output_folder(&out)?;
         let export_labels = a.export_labels.clone().or_else(|| r.export_labels.clone());
         if let Some(d) = &export_labels {
             check_output_folder(d)?;
         }
-        let calibration = a.calibration.as_deref().or(r.calibration.as_deref()).map(Calibration::load).transpose()?;
+        let calibration = a
+            .calibration
+            .as_deref()
+            .or(r.calibration.as_deref())
+            .map(Calibration::load)
+            .transpose()?;
         if a.repeat == 0 {
             return Err(Error::Usage("--repeat must be at least 1".into()));
         }
         if a.repeat > 1 && !matches!(source, SourceSpec::Replay(_)) {
-            return Err(Error::Usage("--repeat only applies to replay:DIR sources".into()));
+            return Err(Error::Usage(
+                "--repeat only applies to replay:DIR sources".into(),
+            ));
         }
-        Ok(Settings { fast: a.fast || r.fast, config, source, out, export_labels, calibration })
+        Ok(Settings {
+            fast: a.fast || r.fast,
+            config,
+            source,
+            out,
+            export_labels,
+            calibration,
+        })
     }
 }
 
@@ -104,10 +120,15 @@ impl Settings {
 fn check_output_folder(dir: &Path) -> Result<()> {
     if dir.exists() {
         if !dir.is_dir() {
-            return Err(Error::input(dir, "", "exists and is not a folder: give a folder for the output"));
+            return Err(Error::input(
+                dir,
+                "",
+                "exists and is not a folder: give a folder for the output",
+            ));
         }
         let probe = dir.join(format!(".umbra-write-test-{}", std::process::id()));
-        std::fs::write(&probe, b"").map_err(|e| Error::io(dir, "creating a file in the output folder", e))?;
+        std::fs::write(&probe, b"")
+            .map_err(|e| Error::io(dir, "creating a file in the output folder", e))?;
         let _ = std::fs::remove_file(&probe);
         return Ok(());
     }
@@ -118,7 +139,14 @@ fn check_output_folder(dir: &Path) -> Result<()> {
             return Ok(());
         }
         if p.exists() {
-            return Err(Error::input(p, "", format!("is not a folder, so output folder {} cannot be created", dir.display())));
+            return Err(Error::input(
+                p,
+                "",
+                format!(
+                    "is not a folder, so output folder {} cannot be created",
+                    dir.display()
+                ),
+            ));
         }
         up = p.parent();
     }
@@ -151,7 +179,9 @@ impl FromStr for SourceSpec {
             None if s == "kinect" => Ok(SourceSpec::Kinect(Selector::Index(0))),
             Some(("kinect", which)) => Ok(SourceSpec::Kinect(which.parse()?)),
             Some(("replay", dir)) if !dir.is_empty() => Ok(SourceSpec::Replay(PathBuf::from(dir))),
-            _ => Err(Error::Usage(format!("--source {s:?}: expected kinect, kinect:INDEX, kinect:SERIAL or replay:DIR"))),
+            _ => Err(Error::Usage(format!(
+                "--source {s:?}: expected kinect, kinect:INDEX, kinect:SERIAL or replay:DIR"
+            ))),
         }
     }
 }
@@ -164,7 +194,14 @@ pub fn run(a: Args) -> Result<()> {
     }
     let stop = Arc::new(AtomicBool::new(false));
     install_signal_handlers(&stop)?;
-    let Settings { config, source, out, export_labels, fast, calibration: override_calibration } = settings;
+    let Settings {
+        config,
+        source,
+        out,
+        export_labels,
+        fast,
+        calibration: override_calibration,
+    } = settings;
     let mcap_opts = config.mcap_options();
 
     let mut extra = Extra::default();
@@ -186,16 +223,28 @@ pub fn run(a: Args) -> Result<()> {
             if override_calibration.is_none() {
                 info!(calibration = %origin, "calibration from the device");
             }
-            let r = Reconnecting::new(Box::new(first), Box::new(open_kinect) as Opener, config.backoff(), stop.clone());
+            let r = Reconnecting::new(
+                Box::new(first),
+                Box::new(open_kinect) as Opener,
+                config.backoff(),
+                stop.clone(),
+            );
             extra.reconnects = Some(r.reconnect_counter());
             (Box::new(r), calib)
         }
         SourceSpec::Replay(dir) => {
             let rec = Recording::open(dir)?;
             let calib = *rec.calibration();
-            info!(frames = rec.len(), passes = a.repeat, realtime = !fast, "replaying {}", dir.display());
+            info!(
+                frames = rec.len(),
+                passes = a.repeat,
+                realtime = !fast,
+                "replaying {}",
+                dir.display()
+            );
             // Foreground masks are made in the RGB view: they need the colour image too.
-            let replay = ReplaySource::new(rec, mcap_opts.write_rgb || mcap_opts.write_foreground).repeat(a.repeat);
+            let replay = ReplaySource::new(rec, mcap_opts.write_rgb || mcap_opts.write_foreground)
+                .repeat(a.repeat);
             (Box::new(Paced::new(replay, stop.clone(), !fast)), calib)
         }
     };
@@ -205,28 +254,47 @@ pub fn run(a: Args) -> Result<()> {
     let mcap_counters = mcap.counters();
     let rate_hz = config.foreground.rate_hz;
     let mut sinks: Vec<Box<dyn Sink>> = if rate_hz > 0.0 {
-        info!(rate_hz, "foreground masks on {}", crate::sink::mcap::topics::FOREGROUND_MASK);
+        info!(
+            rate_hz,
+            "foreground masks on {}",
+            crate::sink::mcap::topics::FOREGROUND_MASK
+        );
         let segmenter = crate::segment::Segmenter::new(crate::segment::Params::default());
-        vec![Box::new(WithForeground::new(mcap, Box::new(segmenter), rate_hz))]
+        vec![Box::new(WithForeground::new(
+            mcap,
+            Box::new(segmenter),
+            rate_hz,
+        ))]
     } else {
         vec![Box::new(mcap)]
     };
     if let Some(dir) = &export_labels {
         let labels = Tolerant::new(LabelExport::create(dir)?, "label PNGs");
         let lost = labels.lost_counter();
-        extra.lost.push(Box::new(move || lost.load(Ordering::Relaxed)));
+        extra
+            .lost
+            .push(Box::new(move || lost.load(Ordering::Relaxed)));
         sinks.push(Box::new(labels));
     }
     let c = mcap_counters.clone();
-    extra.lost.push(Box::new(move || c.frames_lost.load(Ordering::Relaxed)));
+    extra
+        .lost
+        .push(Box::new(move || c.frames_lost.load(Ordering::Relaxed)));
 
     let telemetry = Arc::new(Telemetry::default());
-    let reporter = Reporter::start(telemetry.clone(), extra, Duration::from_secs_f64(config.run.status_interval_s));
+    let reporter = Reporter::start(
+        telemetry.clone(),
+        extra,
+        Duration::from_secs_f64(config.run.status_interval_s),
+    );
     service::notify_ready();
     info!(out = %out.display(), "capturing");
     let cpu0 = pipeline::telemetry::process_cpu_time();
     let classifier = Classifier::with_params(&calibration, config.params());
-    let opts = Options { telemetry: telemetry.clone(), ..Options::default() };
+    let opts = Options {
+        telemetry: telemetry.clone(),
+        ..Options::default()
+    };
     let result = pipeline::run(source, classifier, &mut sinks, opts, |_| {});
     service::notify_stopping();
     drop(reporter);
@@ -255,13 +323,22 @@ fn check_config(a: &Args, s: &Settings) -> Result<()> {
             }
         }
     }
-    let file = a.config.as_ref().map_or("built-in defaults".to_string(), |p| p.display().to_string());
+    let file = a
+        .config
+        .as_ref()
+        .map_or("built-in defaults".to_string(), |p| p.display().to_string());
     println!(
         "config OK ({file}): source {}, out {}, label PNGs {}, {}",
         s.source,
         s.out.display(),
-        s.export_labels.as_ref().map_or("off".to_string(), |p| p.display().to_string()),
-        if s.calibration.is_some() { "calibration from file" } else { "calibration from the source" }
+        s.export_labels
+            .as_ref()
+            .map_or("off".to_string(), |p| p.display().to_string()),
+        if s.calibration.is_some() {
+            "calibration from file"
+        } else {
+            "calibration from the source"
+        }
     );
     Ok(())
 }
@@ -323,10 +400,22 @@ mod tests {
 
     #[test]
     fn parses_sources() {
-        assert_eq!("kinect".parse::<SourceSpec>().unwrap(), SourceSpec::Kinect(Selector::Index(0)));
-        assert_eq!("kinect:2".parse::<SourceSpec>().unwrap(), SourceSpec::Kinect(Selector::Index(2)));
-        assert_eq!("kinect:A00362A09433114A".parse::<SourceSpec>().unwrap(), SourceSpec::Kinect(Selector::Serial("A00362A09433114A".into())));
-        assert_eq!("replay:/tmp/rec".parse::<SourceSpec>().unwrap(), SourceSpec::Replay("/tmp/rec".into()));
+        assert_eq!(
+            "kinect".parse::<SourceSpec>().unwrap(),
+            SourceSpec::Kinect(Selector::Index(0))
+        );
+        assert_eq!(
+            "kinect:2".parse::<SourceSpec>().unwrap(),
+            SourceSpec::Kinect(Selector::Index(2))
+        );
+        assert_eq!(
+            "kinect:A00362A09433114A".parse::<SourceSpec>().unwrap(),
+            SourceSpec::Kinect(Selector::Serial("A00362A09433114A".into()))
+        );
+        assert_eq!(
+            "replay:/tmp/rec".parse::<SourceSpec>().unwrap(),
+            SourceSpec::Replay("/tmp/rec".into())
+        );
         for bad in ["kinekt", "replay:", "kinect:a b", "usb:1"] {
             assert!(bad.parse::<SourceSpec>().is_err(), "{bad}");
         }

@@ -72,28 +72,46 @@ pub fn run(a: Args) -> Result<()> {
         SeedsArg::Shadow => SeedMode::Shadow,
         SeedsArg::Threshold => {
             if !(a.tf.is_finite() && a.tb.is_finite() && a.tf > 0.0 && a.tb >= a.tf) {
-                return Err(Error::Usage(format!("--tf {} --tb {}: expected 0 < Tf <= Tb (metres)", a.tf, a.tb)));
+                return Err(Error::Usage(format!(
+                    "--tf {} --tb {}: expected 0 < Tf <= Tb (metres)",
+                    a.tf, a.tb
+                )));
             }
-            SeedMode::Threshold { tf_m: a.tf, tb_m: a.tb }
+            SeedMode::Threshold {
+                tf_m: a.tf,
+                tb_m: a.tb,
+            }
         }
     };
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, "creating folder", e))?;
 
     let mut classifier = Classifier::with_params(rec.calibration(), classify_params);
-    let mut segmenter = Segmenter::new(Params { seeds: mode, ..Params::default() });
+    let mut segmenter = Segmenter::new(Params {
+        seeds: mode,
+        ..Params::default()
+    });
     let mut classified = Classified::default();
-    let (mut raw, mut rgb, mut mask) = (vec![0u16; PIXELS], vec![0u8; 3 * PIXELS], vec![0u8; PIXELS]);
+    let (mut raw, mut rgb, mut mask) =
+        (vec![0u16; PIXELS], vec![0u8; 3 * PIXELS], vec![0u8; PIXELS]);
     let (mut png, mut picture, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
     let bar = super::progress_bar(frames.len() as u64, "frames");
     let started = Instant::now();
     let mut seg_time = 0.0f64;
     let (mut fg_pixels, mut seeds) = (0usize, 0usize);
     for &i in &frames {
-        rec.read_depth_with(i, &mut scratch, &mut raw).inspect_err(|_| bar.abandon())?;
-        if !rec.read_rgb_with(i, &mut scratch, &mut rgb).inspect_err(|_| bar.abandon())? {
+        rec.read_depth_with(i, &mut scratch, &mut raw)
+            .inspect_err(|_| bar.abandon())?;
+        if !rec
+            .read_rgb_with(i, &mut scratch, &mut rgb)
+            .inspect_err(|_| bar.abandon())?
+        {
             bar.abandon();
             let index = rec.dir().join("INDEX.txt");
-            return Err(Error::input(index, "", format!("depth frame {i} has no RGB frame to segment (expected r-*.ppm lines)")));
+            return Err(Error::input(
+                index,
+                "",
+                format!("depth frame {i} has no RGB frame to segment (expected r-*.ppm lines)"),
+            ));
         }
         classifier.classify(&raw, &mut classified);
         let t = Instant::now();
@@ -103,7 +121,8 @@ pub fn run(a: Args) -> Result<()> {
         seeds += out.fg_seeds + out.bg_seeds;
         write_mask_png(&mask_path(&a.out, i), &mask, &mut png).inspect_err(|_| bar.abandon())?;
         overlay(&rgb, &mask, segmenter.seeds(), &mut picture);
-        write_rgb_png(&overlay_path(&a.out, i), &picture, &mut png).inspect_err(|_| bar.abandon())?;
+        write_rgb_png(&overlay_path(&a.out, i), &picture, &mut png)
+            .inspect_err(|_| bar.abandon())?;
         bar.inc(1);
     }
     bar.finish_and_clear();

@@ -54,7 +54,10 @@ pub struct Args {
 /// Runs `umbra synth`.
 pub fn run(a: Args) -> Result<()> {
     if a.frames == 0 || a.frames > 100_000 {
-        return Err(Error::Usage(format!("--frames {} is out of range, expected 1 to 100000", a.frames)));
+        return Err(Error::Usage(format!(
+            "--frames {} is out of range, expected 1 to 100000",
+            a.frames
+        )));
     }
     let calib = Calibration::nyu_default();
     let started = Instant::now();
@@ -63,24 +66,39 @@ pub fn run(a: Args) -> Result<()> {
     let describe_target;
     if let Some(dir) = &a.suite {
         if a.count == 0 {
-            return Err(Error::Usage("--count 0: a suite needs at least one scene".into()));
+            return Err(Error::Usage(
+                "--count 0: a suite needs at least one scene".into(),
+            ));
         }
         write::prepare_dir(dir)?;
         for i in 0..a.count {
             // Alternate so that any prefix of the suite is balanced.
-            let cat = if i % 2 == 0 { Category::Simple } else { Category::Complex };
+            let cat = if i % 2 == 0 {
+                Category::Simple
+            } else {
+                Category::Complex
+            };
             let seed = a.seed.wrapping_mul(1_000_003).wrapping_add(i as u64);
             let name = format!("{i:03}-{}", cat.as_str());
             let job = make_job(random_scene(cat, seed), cat, seed, &a, calib);
-            work.push((dir.join("recordings").join(&name), dir.join("gt").join(&name), job));
+            work.push((
+                dir.join("recordings").join(&name),
+                dir.join("gt").join(&name),
+                job,
+            ));
         }
         describe_target = format!("{} recordings to {}", a.count, dir.display());
     } else {
         let (Some(out), Some(gt)) = (&a.out, &a.gt) else {
-            return Err(Error::Usage("umbra synth needs OUT_REC and --gt GT_DIR, or --suite DIR".into()));
+            return Err(Error::Usage(
+                "umbra synth needs OUT_REC and --gt GT_DIR, or --suite DIR".into(),
+            ));
         };
         if out == gt {
-            return Err(Error::Usage(format!("OUT_REC and --gt are the same folder {}", out.display())));
+            return Err(Error::Usage(format!(
+                "OUT_REC and --gt are the same folder {}",
+                out.display()
+            )));
         }
         let (scene, cat) = match a.scene {
             SceneArg::Simple => (random_scene(Category::Simple, a.seed), Category::Simple),
@@ -90,20 +108,34 @@ pub fn run(a: Args) -> Result<()> {
         // Check both folders before writing anything into either.
         write::check_free(out)?;
         write::check_free(gt)?;
-        work.push((out.clone(), gt.clone(), make_job(scene, cat, a.seed, &a, calib)));
-        describe_target = format!("1 recording to {} (labels in {})", out.display(), gt.display());
+        work.push((
+            out.clone(),
+            gt.clone(),
+            make_job(scene, cat, a.seed, &a, calib),
+        ));
+        describe_target = format!(
+            "1 recording to {} (labels in {})",
+            out.display(),
+            gt.display()
+        );
     }
 
     let total_frames = (work.len() * a.frames) as u64;
     let bar = ProgressBar::new(total_frames);
     bar.set_style(
-        ProgressStyle::with_template("{spinner} synth [{bar:30}] {pos}/{len} frames {msg} eta {eta}")
-            .expect("valid template")
-            .progress_chars("=> "),
+        ProgressStyle::with_template(
+            "{spinner} synth [{bar:30}] {pos}/{len} frames {msg} eta {eta}",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
     );
     let mut totals = [0u64; CLASSES];
     for (rec, gt, job) in &work {
-        bar.set_message(rec.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default());
+        bar.set_message(
+            rec.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+        );
         let t = write_job(job, rec, gt, &mut || bar.inc(1)).inspect_err(|_| bar.abandon())?;
         for (a, b) in totals.iter_mut().zip(t) {
             *a += b;
@@ -111,7 +143,11 @@ pub fn run(a: Args) -> Result<()> {
     }
     bar.finish_and_clear();
     let all: u64 = totals.iter().sum::<u64>().max(1);
-    let shares: Vec<String> = NAMES.iter().zip(totals).map(|(n, c)| format!("{n} {:.1}%", 100.0 * c as f64 / all as f64)).collect();
+    let shares: Vec<String> = NAMES
+        .iter()
+        .zip(totals)
+        .map(|(n, c)| format!("{n} {:.1}%", 100.0 * c as f64 / all as f64))
+        .collect();
     println!(
         "synth: wrote {describe_target}, {total_frames} frames in {:.1} s; labels (both views): {}",
         started.elapsed().as_secs_f64(),
@@ -121,6 +157,17 @@ pub fn run(a: Args) -> Result<()> {
 }
 
 fn make_job(scene: Scene, category: Category, seed: u64, a: &Args, calib: Calibration) -> Job {
-    let sensor = if a.ideal { SensorModel::ideal() } else { sensor_for(category) };
-    Job { scene, category, seed, frames: a.frames, sensor, calib }
+    let sensor = if a.ideal {
+        SensorModel::ideal()
+    } else {
+        sensor_for(category)
+    };
+    Job {
+        scene,
+        category,
+        seed,
+        frames: a.frames,
+        sensor,
+        calib,
+    }
 }

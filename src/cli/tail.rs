@@ -97,8 +97,13 @@ fn tail_folder(a: &Args, out: &mut Output) -> Result<()> {
         let superseded = segments.iter().any(|(p, _)| key(p) > this);
         let end = match reader.poll(&mut |r| out.frame(r)) {
             Ok(end) => end,
-            Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound && !out.closed => {
-                warn!("{}: deleted before it was read to its end (output size cap?)", reader.path().display());
+            Err(Error::Io { source, .. })
+                if source.kind() == std::io::ErrorKind::NotFound && !out.closed =>
+            {
+                warn!(
+                    "{}: deleted before it was read to its end (output size cap?)",
+                    reader.path().display()
+                );
                 End::Complete
             }
             Err(e) => return Err(e),
@@ -117,7 +122,10 @@ fn tail_folder(a: &Args, out: &mut Output) -> Result<()> {
 fn report_end(reader: &SegmentReader, end: End) {
     match end {
         End::Torn { offset, tail } => warn!("{}", torn_warning(reader.path(), offset, tail)),
-        End::Open => info!("{}: ends without its summary (still being written, or its writer stopped)", reader.path().display()),
+        End::Open => info!(
+            "{}: ends without its summary (still being written, or its writer stopped)",
+            reader.path().display()
+        ),
         End::Complete => {}
     }
 }
@@ -138,15 +146,31 @@ struct Output {
 
 impl Output {
     fn new(a: &Args) -> Result<Self> {
-        let labels = a.export_labels.as_deref().map(LabelExport::create).transpose()?;
+        let labels = a
+            .export_labels
+            .as_deref()
+            .map(LabelExport::create)
+            .transpose()?;
         if let Some(dir) = &a.png {
             if dir.exists() && !dir.is_dir() {
-                return Err(Error::input(dir, "", "exists and is not a folder: --png needs a folder to write <seq>.png into"));
+                return Err(Error::input(
+                    dir,
+                    "",
+                    "exists and is not a folder: --png needs a folder to write <seq>.png into",
+                ));
             }
             std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating folder", e))?;
         }
         let stdout = std::io::BufWriter::new(std::io::stdout());
-        Ok(Output { stdout, json: a.json, labels, png: a.png.clone(), calib: Calibration::nyu_default(), png_buf: Vec::new(), closed: false })
+        Ok(Output {
+            stdout,
+            json: a.json,
+            labels,
+            png: a.png.clone(),
+            calib: Calibration::nyu_default(),
+            png_buf: Vec::new(),
+            closed: false,
+        })
     }
 
     fn frame(&mut self, r: Recorded) -> Result<()> {
@@ -155,15 +179,29 @@ impl Output {
         }
         if let Some(dir) = &self.png {
             let f = &r.frame;
-            let img = render_panels(f.has_rgb.then_some(f.rgb.as_slice()), &f.depth, &self.calib, &f.labels);
+            let img = render_panels(
+                f.has_rgb.then_some(f.rgb.as_slice()),
+                &f.depth,
+                &self.calib,
+                &f.labels,
+            );
             let path = dir.join(format!("{:06}.png", f.seq));
             self.png_buf.clear();
             image::codecs::png::PngEncoder::new(&mut self.png_buf)
-                .write_image(img.as_raw(), img.width(), img.height(), image::ExtendedColorType::Rgb8)
+                .write_image(
+                    img.as_raw(),
+                    img.width(),
+                    img.height(),
+                    image::ExtendedColorType::Rgb8,
+                )
                 .map_err(|e| Error::input(&path, "", format!("encoding PNG failed: {e}")))?;
             write_atomically(&path, &self.png_buf)?;
         }
-        let line = if self.json { serde_json::to_string(&r.stats).expect("stats serialise to JSON") } else { human_line(&r) };
+        let line = if self.json {
+            serde_json::to_string(&r.stats).expect("stats serialise to JSON")
+        } else {
+            human_line(&r)
+        };
         // Flushed per frame so that a pipe (`| jq`) sees frames as they come in --follow.
         let written = writeln!(self.stdout, "{line}").and_then(|_| self.stdout.flush());
         written.map_err(|e| {
@@ -176,7 +214,10 @@ impl Output {
 /// `seq 12  ts 4096  t 1795349700.123  latency 3.2 ms  dropped 0  ir: attached 1.20% ...`
 fn human_line(r: &Recorded) -> String {
     let s = &r.stats;
-    let mut line = format!("seq {}  ts {}  t {:.3}  latency {:.1} ms  dropped {}", s.seq, s.device_ts, s.unix_time, s.latency_ms, s.dropped_before);
+    let mut line = format!(
+        "seq {}  ts {}  t {:.3}  latency {:.1} ms  dropped {}",
+        s.seq, s.device_ts, s.unix_time, s.latency_ms, s.dropped_before
+    );
     for (view, counts) in [("ir", &s.ir), ("rgb", &s.rgb)] {
         line.push_str(&format!("  {view}:"));
         line.push_str(&shares(view, counts));

@@ -105,7 +105,10 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Options { pool: 4, telemetry: Arc::default() }
+        Options {
+            pool: 4,
+            telemetry: Arc::default(),
+        }
     }
 }
 
@@ -133,14 +136,27 @@ pub fn run(
     let (done_tx, done_rx) = bounded::<Msg>(pool);
     let start = Instant::now();
     let tel = opts.telemetry;
-    let mut stats = Stats { telemetry: tel.clone(), ..Stats::default() };
+    let mut stats = Stats {
+        telemetry: tel.clone(),
+        ..Stats::default()
+    };
 
     std::thread::scope(|scope| {
         let t = &tel;
         let free_back = free_tx.clone();
-        scope.spawn(move || on_thread(t, 0, || read_stage(source.as_mut(), free_rx, &free_back, read_tx, t)));
-        let classify_time = scope.spawn(move || on_thread(t, 1, || classify_stage(&mut classifier, read_rx, done_tx, t)));
-        let result = on_thread(t, 2, || write_stage(sinks, done_rx, &free_tx, &mut stats, &mut on_frame, t));
+        scope.spawn(move || {
+            on_thread(t, 0, || {
+                read_stage(source.as_mut(), free_rx, &free_back, read_tx, t)
+            })
+        });
+        let classify_time = scope.spawn(move || {
+            on_thread(t, 1, || {
+                classify_stage(&mut classifier, read_rx, done_tx, t)
+            })
+        });
+        let result = on_thread(t, 2, || {
+            write_stage(sinks, done_rx, &free_tx, &mut stats, &mut on_frame, t)
+        });
         // Dropping the pool's sender and the receiver (inside write_stage) unblocks the others.
         drop(free_tx);
         stats.classify_time = classify_time.join().unwrap_or_default();
@@ -157,19 +173,31 @@ pub fn run(
 fn on_thread<T>(tel: &Telemetry, stage: usize, body: impl FnOnce() -> T) -> T {
     let t0 = telemetry::thread_cpu_time();
     let r = body();
-    tel.cpu_us[stage].store((telemetry::thread_cpu_time().saturating_sub(t0)).as_micros() as u64, Ordering::Relaxed);
+    tel.cpu_us[stage].store(
+        (telemetry::thread_cpu_time().saturating_sub(t0)).as_micros() as u64,
+        Ordering::Relaxed,
+    );
     r
 }
 
 /// Why a frame from a source cannot be classified, if it cannot.
 fn malformed(frame: &Frame) -> Option<String> {
     if frame.depth.len() != PIXELS {
-        return Some(format!("depth frame of {} pixels, expected {PIXELS} (640x480)", frame.depth.len()));
+        return Some(format!(
+            "depth frame of {} pixels, expected {PIXELS} (640x480)",
+            frame.depth.len()
+        ));
     }
     None
 }
 
-fn read_stage(source: &mut dyn Source, free: Receiver<Box<Frame>>, free_back: &Sender<Box<Frame>>, out: Sender<Msg>, tel: &Telemetry) {
+fn read_stage(
+    source: &mut dyn Source,
+    free: Receiver<Box<Frame>>,
+    free_back: &Sender<Box<Frame>>,
+    out: Sender<Msg>,
+    tel: &Telemetry,
+) {
     let _span = info_span!("read").entered();
     let mut seq = 0;
     let mut malformed_burst = false;
@@ -185,8 +213,10 @@ fn read_stage(source: &mut dyn Source, free: Receiver<Box<Frame>>, free_back: &S
                 frame.seq = seq;
                 seq += 1;
                 tel.frames_read.fetch_add(1, Ordering::Relaxed);
-                tel.frames_dropped.fetch_add(frame.dropped_before, Ordering::Relaxed);
-                tel.rgb_dropped.fetch_add(frame.rgb_dropped_before, Ordering::Relaxed);
+                tel.frames_dropped
+                    .fetch_add(frame.dropped_before, Ordering::Relaxed);
+                tel.rgb_dropped
+                    .fetch_add(frame.rgb_dropped_before, Ordering::Relaxed);
                 if let Some(why) = malformed(&frame) {
                     // A broken frame must not take the pool's buffer shapes (or the run) with it.
                     tel.frames_malformed.fetch_add(1, Ordering::Relaxed);
@@ -200,7 +230,11 @@ fn read_stage(source: &mut dyn Source, free: Receiver<Box<Frame>>, free_back: &S
                 }
                 malformed_burst = false;
                 if frame.has_rgb && frame.rgb.len() != PIXELS * 3 {
-                    warn!(seq = frame.seq, bytes = frame.rgb.len(), "RGB frame of the wrong size ignored");
+                    warn!(
+                        seq = frame.seq,
+                        bytes = frame.rgb.len(),
+                        "RGB frame of the wrong size ignored"
+                    );
                     frame.has_rgb = false;
                     frame.rgb.resize(PIXELS * 3, 0);
                 }
@@ -218,7 +252,12 @@ fn read_stage(source: &mut dyn Source, free: Receiver<Box<Frame>>, free_back: &S
     }
 }
 
-fn classify_stage(classifier: &mut Classifier, input: Receiver<Msg>, out: Sender<Msg>, tel: &Telemetry) -> Duration {
+fn classify_stage(
+    classifier: &mut Classifier,
+    input: Receiver<Msg>,
+    out: Sender<Msg>,
+    tel: &Telemetry,
+) -> Duration {
     let _span = info_span!("classify").entered();
     let mut busy = Duration::ZERO;
     for msg in input {
@@ -272,7 +311,11 @@ fn write_stage(
         for (total, n) in stats.ir.iter_mut().zip(histogram(&frame.labels.ir_labels)) {
             *total += n;
         }
-        for (total, n) in stats.rgb.iter_mut().zip(histogram(&frame.labels.rgb_labels)) {
+        for (total, n) in stats
+            .rgb
+            .iter_mut()
+            .zip(histogram(&frame.labels.rgb_labels))
+        {
             *total += n;
         }
         stats.frames += 1;

@@ -23,7 +23,12 @@ pub struct Histogram {
 
 impl Default for Histogram {
     fn default() -> Self {
-        Histogram { buckets: (0..BUCKETS).map(|_| AtomicU64::new(0)).collect(), count: AtomicU64::new(0), sum_us: AtomicU64::new(0), max_us: AtomicU64::new(0) }
+        Histogram {
+            buckets: (0..BUCKETS).map(|_| AtomicU64::new(0)).collect(),
+            count: AtomicU64::new(0),
+            sum_us: AtomicU64::new(0),
+            max_us: AtomicU64::new(0),
+        }
     }
 }
 
@@ -87,7 +92,13 @@ impl Histogram {
 
     /// `mean/p50/p99/max` in milliseconds, e.g. `1.02/0.98/1.40/2.31 ms`.
     pub fn summary(&self) -> String {
-        format!("{:.2}/{:.2}/{:.2}/{:.2} ms", self.mean_ms(), self.quantile_ms(0.5), self.quantile_ms(0.99), self.max_ms())
+        format!(
+            "{:.2}/{:.2}/{:.2}/{:.2} ms",
+            self.mean_ms(),
+            self.quantile_ms(0.5),
+            self.quantile_ms(0.99),
+            self.max_ms()
+        )
     }
 }
 
@@ -166,7 +177,10 @@ pub struct Telemetry {
 impl Telemetry {
     /// Frames read but not yet written (in a queue or a stage).
     pub fn in_flight(&self) -> u64 {
-        self.frames_read.load(Ordering::Relaxed).saturating_sub(self.frames_written.load(Ordering::Relaxed) + self.frames_malformed.load(Ordering::Relaxed))
+        self.frames_read.load(Ordering::Relaxed).saturating_sub(
+            self.frames_written.load(Ordering::Relaxed)
+                + self.frames_malformed.load(Ordering::Relaxed),
+        )
     }
 }
 
@@ -181,7 +195,10 @@ pub fn process_cpu_time() -> Duration {
 }
 
 fn cpu_clock(clock: libc::clockid_t) -> Duration {
-    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
     // SAFETY: `ts` is a valid, writable timespec; the clock ids are the POSIX CPU-time clocks.
     let rc = unsafe { libc::clock_gettime(clock, &mut ts) };
     if rc != 0 {
@@ -192,8 +209,14 @@ fn cpu_clock(clock: libc::clockid_t) -> Duration {
 
 /// Resident memory of this process in bytes (from /proc/self/statm; 0 where unavailable).
 pub fn resident_bytes() -> u64 {
-    let Ok(s) = std::fs::read_to_string("/proc/self/statm") else { return 0 };
-    let pages: u64 = s.split_whitespace().nth(1).and_then(|v| v.parse().ok()).unwrap_or(0);
+    let Ok(s) = std::fs::read_to_string("/proc/self/statm") else {
+        return 0;
+    };
+    let pages: u64 = s
+        .split_whitespace()
+        .nth(1)
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
     // SAFETY: sysconf has no preconditions.
     let page = unsafe { libc::sysconf(libc::_SC_PAGESIZE) };
     pages * page.max(0) as u64
@@ -212,10 +235,22 @@ mod tests {
             h.record(Duration::from_micros(ms * 1000 - 10));
         }
         assert_eq!(h.count(), 100);
-        assert!((h.quantile_ms(0.5) - 50.0).abs() < 0.021, "{}", h.quantile_ms(0.5));
-        assert!((h.quantile_ms(0.99) - 99.0).abs() < 0.021, "{}", h.quantile_ms(0.99));
+        assert!(
+            (h.quantile_ms(0.5) - 50.0).abs() < 0.021,
+            "{}",
+            h.quantile_ms(0.5)
+        );
+        assert!(
+            (h.quantile_ms(0.99) - 99.0).abs() < 0.021,
+            "{}",
+            h.quantile_ms(0.99)
+        );
         // Beyond the last bucket the true maximum is reported.
-        assert!((h.quantile_ms(1.0) - 99.99).abs() < 1e-9, "{}", h.quantile_ms(1.0));
+        assert!(
+            (h.quantile_ms(1.0) - 99.99).abs() < 1e-9,
+            "{}",
+            h.quantile_ms(1.0)
+        );
         h.record(Duration::from_millis(250));
         assert_eq!(h.quantile_ms(1.0), 250.0);
         assert!((h.mean_ms() - (5050.0 - 1.0 + 250.0) / 101.0).abs() < 0.01);

@@ -47,8 +47,15 @@ pub fn from_str(text: &str, path: &Path) -> Result<Calibration> {
     let d: DeviceJson = serde_json::from_str(text).map_err(|e| {
         // serde_json's message ends in " at line L column C": the place is already in front.
         let msg = e.to_string();
-        let msg = msg.rsplit_once(" at line ").map_or(msg.as_str(), |(m, _)| m).to_string();
-        Error::input(path, format!("line {}, column {}", e.line(), e.column()), msg)
+        let msg = msg
+            .rsplit_once(" at line ")
+            .map_or(msg.as_str(), |(m, _)| m)
+            .to_string();
+        Error::input(
+            path,
+            format!("line {}, column {}", e.line(), e.column()),
+            msg,
+        )
     })?;
     from_zero_plane(&d.reg_info.zero_plane_info, path)
 }
@@ -63,13 +70,41 @@ pub fn from_zero_plane(z: &ZeroPlane, path: &Path) -> Result<Calibration> {
         if v.is_finite() && v > lo && v < hi {
             Ok(v)
         } else {
-            Err(Error::input(path, key(k), format!("value {v} is not between {lo} and {hi} {unit}")))
+            Err(Error::input(
+                path,
+                key(k),
+                format!("value {v} is not between {lo} and {hi} {unit}"),
+            ))
         }
     };
-    let zpd = within(z.reference_distance, "reference_distance", 0.0, 10_000.0, "mm")?;
-    let zpps = within(z.reference_pixel_size, "reference_pixel_size", 0.0, 10.0, "mm")?;
-    let emitter_cm = within(z.dcmos_emitter_distance, "dcmos_emitter_distance", 1.0, 50.0, "cm")?;
-    let rgb_cm = within(z.dcmos_rcmos_distance, "dcmos_rcmos_distance", 0.0, 50.0, "cm")?;
+    let zpd = within(
+        z.reference_distance,
+        "reference_distance",
+        0.0,
+        10_000.0,
+        "mm",
+    )?;
+    let zpps = within(
+        z.reference_pixel_size,
+        "reference_pixel_size",
+        0.0,
+        10.0,
+        "mm",
+    )?;
+    let emitter_cm = within(
+        z.dcmos_emitter_distance,
+        "dcmos_emitter_distance",
+        1.0,
+        50.0,
+        "cm",
+    )?;
+    let rgb_cm = within(
+        z.dcmos_rcmos_distance,
+        "dcmos_rcmos_distance",
+        0.0,
+        50.0,
+        "cm",
+    )?;
     let mut c = Calibration::nyu_default();
     let f = zpd / (2.0 * zpps);
     if !(50.0..5000.0).contains(&f) {
@@ -87,7 +122,8 @@ pub fn from_zero_plane(z: &ZeroPlane, path: &Path) -> Result<Calibration> {
     // Raw values are 1/8-pixel disparity offsets, so the model's numerator is 8·f·b.
     c.raw.numerator = 8.0 * f * c.raw.baseline_m;
     c.depth_to_rgb.translation.x = -rgb_cm / 100.0;
-    c.validate().map_err(|(k, why)| Error::input(path, format!("derived calibration key {k}"), why))?;
+    c.validate()
+        .map_err(|(k, why)| Error::input(path, format!("derived calibration key {k}"), why))?;
     Ok(c)
 }
 
@@ -107,7 +143,9 @@ mod tests {
 
     #[test]
     fn errors_name_place() {
-        let e = from_str("{\"reg_info\": 3", Path::new("d.json")).unwrap_err().to_string();
+        let e = from_str("{\"reg_info\": 3", Path::new("d.json"))
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("d.json: line 1, column"), "{e}");
         let e = from_str(r#"{"reg_info":{"zero_plane_info":{"dcmos_emitter_distance":-1,"dcmos_rcmos_distance":2.4,"reference_distance":120,"reference_pixel_size":0.1}}}"#, Path::new("d.json")).unwrap_err().to_string();
         assert!(e.contains("dcmos_emitter_distance"), "{e}");

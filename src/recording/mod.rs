@@ -75,15 +75,27 @@ impl Recording {
     /// depth and loads the calibration (`calibration.toml`, else `device.json`, else defaults).
     pub fn open(dir: &Path) -> Result<Self> {
         if !dir.is_dir() {
-            return Err(Error::input(dir, "", "not a recording folder (expected a folder with INDEX.txt)"));
+            return Err(Error::input(
+                dir,
+                "",
+                "not a recording folder (expected a folder with INDEX.txt)",
+            ));
         }
         let index_path = dir.join("INDEX.txt");
         let text = match std::fs::read(&index_path) {
             Ok(b) => String::from_utf8(b).map_err(|e| {
-                Error::input(&index_path, format!("byte {}", e.utf8_error().valid_up_to()), "not UTF-8 text")
+                Error::input(
+                    &index_path,
+                    format!("byte {}", e.utf8_error().valid_up_to()),
+                    "not UTF-8 text",
+                )
             })?,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                return Err(Error::input(&index_path, "", "missing: a fakenect recording needs INDEX.txt listing its frames"))
+                return Err(Error::input(
+                    &index_path,
+                    "",
+                    "missing: a fakenect recording needs INDEX.txt listing its frames",
+                ))
             }
             Err(e) => return Err(Error::io(&index_path, "reading", e)),
         };
@@ -91,16 +103,33 @@ impl Recording {
         for e in &entries {
             let file = dir.join(&e.name);
             if !file.is_file() {
-                let why = if file.exists() { "is not a regular file" } else { "does not exist" };
-                return Err(Error::input(&index_path, format!("line {}", e.line), format!("names {} which {why} in {}", e.name, dir.display())));
+                let why = if file.exists() {
+                    "is not a regular file"
+                } else {
+                    "does not exist"
+                };
+                return Err(Error::input(
+                    &index_path,
+                    format!("line {}", e.line),
+                    format!("names {} which {why} in {}", e.name, dir.display()),
+                ));
             }
         }
         let frames = pair_frames(&entries);
         if frames.is_empty() {
-            return Err(Error::input(&index_path, "", "lists no depth frame (d-*.pgm)"));
+            return Err(Error::input(
+                &index_path,
+                "",
+                "lists no depth frame (d-*.pgm)",
+            ));
         }
         let (calibration, calibration_source) = load_calibration(dir)?;
-        Ok(Recording { dir: dir.to_path_buf(), frames, calibration, calibration_source })
+        Ok(Recording {
+            dir: dir.to_path_buf(),
+            frames,
+            calibration,
+            calibration_source,
+        })
     }
 
     /// The recording folder.
@@ -166,7 +195,13 @@ pub fn parse_index(path: &Path, text: &str) -> Result<Vec<Entry>> {
             continue;
         }
         let entry = parse_name(line, i + 1).map_err(|why| {
-            Error::input(path, format!("line {}", i + 1), format!("'{line}' {why}; expected d-<unix_time>-<device_ts>.pgm, r-….ppm or a-….dump"))
+            Error::input(
+                path,
+                format!("line {}", i + 1),
+                format!(
+                    "'{line}' {why}; expected d-<unix_time>-<device_ts>.pgm, r-….ppm or a-….dump"
+                ),
+            )
         })?;
         out.push(entry);
     }
@@ -189,12 +224,22 @@ fn parse_name(name: &str, line: usize) -> std::result::Result<Entry, &'static st
         ("d" | "r" | "a", _) => return Err("has the wrong extension for its stream"),
         _ => return Err("does not start with d-, r- or a-"),
     };
-    let unix_time: f64 = time.parse().map_err(|_| "has a time field that is not a number")?;
+    let unix_time: f64 = time
+        .parse()
+        .map_err(|_| "has a time field that is not a number")?;
     if !unix_time.is_finite() || unix_time < 0.0 {
         return Err("has a negative or non-finite time");
     }
-    let device_ts: u32 = ts.parse().map_err(|_| "has a device timestamp that is not a 32-bit unsigned number")?;
-    Ok(Entry { stream, unix_time, device_ts, name: name.to_string(), line })
+    let device_ts: u32 = ts
+        .parse()
+        .map_err(|_| "has a device timestamp that is not a 32-bit unsigned number")?;
+    Ok(Entry {
+        stream,
+        unix_time,
+        device_ts,
+        name: name.to_string(),
+        line,
+    })
 }
 
 /// Pairs each depth entry with the RGB entry nearest in host time.
@@ -211,8 +256,16 @@ fn pair_frames(entries: &[Entry]) -> Vec<Frame> {
                 .into_iter()
                 .flatten()
                 .filter_map(|k| rgb.get(k))
-                .min_by(|a, b| (a.unix_time - d.unix_time).abs().total_cmp(&(b.unix_time - d.unix_time).abs()));
-            Frame { index, depth: d.clone(), rgb: best.map(|e| (*e).clone()) }
+                .min_by(|a, b| {
+                    (a.unix_time - d.unix_time)
+                        .abs()
+                        .total_cmp(&(b.unix_time - d.unix_time).abs())
+                });
+            Frame {
+                index,
+                depth: d.clone(),
+                rgb: best.map(|e| (*e).clone()),
+            }
         })
         .collect()
 }
@@ -224,7 +277,10 @@ fn load_calibration(dir: &Path) -> Result<(Calibration, CalibrationSource)> {
     }
     let json_path = dir.join("device.json");
     if json_path.exists() {
-        return Ok((device_json::load(&json_path)?, CalibrationSource::DeviceJson));
+        return Ok((
+            device_json::load(&json_path)?,
+            CalibrationSource::DeviceJson,
+        ));
     }
     Ok((Calibration::nyu_default(), CalibrationSource::Default))
 }
@@ -235,7 +291,11 @@ mod tests {
 
     #[test]
     fn parses_fakenect_names() {
-        let e = parse_index(Path::new("INDEX.txt"), "d-1316653580.471513-1316138413.pgm\n\nr-1.5-7.ppm\na-2.0-9.dump\n").unwrap();
+        let e = parse_index(
+            Path::new("INDEX.txt"),
+            "d-1316653580.471513-1316138413.pgm\n\nr-1.5-7.ppm\na-2.0-9.dump\n",
+        )
+        .unwrap();
         assert_eq!(e.len(), 3);
         assert_eq!(e[0].stream, Stream::Depth);
         assert_eq!(e[0].device_ts, 1316138413);
@@ -245,15 +305,26 @@ mod tests {
 
     #[test]
     fn bad_lines_name_the_line() {
-        let err = parse_index(Path::new("rec/INDEX.txt"), "d-1.0-2.pgm\nx-1-2.pgm\n").unwrap_err().to_string();
-        assert!(err.starts_with("rec/INDEX.txt: line 2: 'x-1-2.pgm'"), "{err}");
-        let err = parse_index(Path::new("I"), "d-1.0-99999999999.pgm\n").unwrap_err().to_string();
+        let err = parse_index(Path::new("rec/INDEX.txt"), "d-1.0-2.pgm\nx-1-2.pgm\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.starts_with("rec/INDEX.txt: line 2: 'x-1-2.pgm'"),
+            "{err}"
+        );
+        let err = parse_index(Path::new("I"), "d-1.0-99999999999.pgm\n")
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("32-bit"), "{err}");
     }
 
     #[test]
     fn pairs_nearest_rgb_by_time() {
-        let e = parse_index(Path::new("I"), "r-0.0-0.ppm\nd-0.04-1.pgm\nr-0.033-2.ppm\nd-0.07-3.pgm\nr-0.1-4.ppm\n").unwrap();
+        let e = parse_index(
+            Path::new("I"),
+            "r-0.0-0.ppm\nd-0.04-1.pgm\nr-0.033-2.ppm\nd-0.07-3.pgm\nr-0.1-4.ppm\n",
+        )
+        .unwrap();
         let f = pair_frames(&e);
         assert_eq!(f.len(), 2);
         assert_eq!(f[0].rgb.as_ref().unwrap().device_ts, 2);

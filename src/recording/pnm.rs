@@ -18,7 +18,11 @@ struct Header {
 
 fn parse_header(path: &Path, bytes: &[u8]) -> Result<Header> {
     if bytes.len() < 2 || bytes[0] != b'P' {
-        return Err(Error::input(path, "byte 0", "not a PNM file: expected a header starting with 'P5' or 'P6'"));
+        return Err(Error::input(
+            path,
+            "byte 0",
+            "not a PNM file: expected a header starting with 'P5' or 'P6'",
+        ));
     }
     let magic = [bytes[0], bytes[1]];
     let mut pos = 2;
@@ -42,45 +46,97 @@ fn parse_header(path: &Path, bytes: &[u8]) -> Result<Header> {
         }
         let name = ["width", "height", "maxval"][i];
         if start == pos || pos - start > 9 {
-            return Err(Error::input(path, format!("byte {start}"), format!("header: expected the {name} as a decimal number")));
+            return Err(Error::input(
+                path,
+                format!("byte {start}"),
+                format!("header: expected the {name} as a decimal number"),
+            ));
         }
-        *field = std::str::from_utf8(&bytes[start..pos]).unwrap().parse().unwrap();
+        *field = std::str::from_utf8(&bytes[start..pos])
+            .unwrap()
+            .parse()
+            .unwrap();
     }
     if !bytes.get(pos).is_some_and(u8::is_ascii_whitespace) {
-        return Err(Error::input(path, format!("byte {pos}"), "header: expected one whitespace byte before the samples"));
+        return Err(Error::input(
+            path,
+            format!("byte {pos}"),
+            "header: expected one whitespace byte before the samples",
+        ));
     }
-    Ok(Header { magic, width: fields[0], height: fields[1], maxval: fields[2], data_start: pos + 1 })
+    Ok(Header {
+        magic,
+        width: fields[0],
+        height: fields[1],
+        maxval: fields[2],
+        data_start: pos + 1,
+    })
 }
 
 /// Reads a whole file into `buf`, reusing its allocation (frames are read every 33 ms).
 fn read_file_into(path: &Path, buf: &mut Vec<u8>) -> Result<()> {
     use std::io::Read;
     buf.clear();
-    std::fs::File::open(path).and_then(|mut f| f.read_to_end(buf)).map_err(|e| Error::io(path, "reading", e))?;
+    std::fs::File::open(path)
+        .and_then(|mut f| f.read_to_end(buf))
+        .map_err(|e| Error::io(path, "reading", e))?;
     Ok(())
 }
 
-fn check_body(path: &Path, h: &Header, bytes: &[u8], want_magic: &[u8; 2], want_max: usize, bytes_per_px: usize) -> Result<()> {
+fn check_body(
+    path: &Path,
+    h: &Header,
+    bytes: &[u8],
+    want_magic: &[u8; 2],
+    want_max: usize,
+    bytes_per_px: usize,
+) -> Result<()> {
     if &h.magic != want_magic {
         return Err(Error::input(
             path,
             "byte 0",
-            format!("header magic '{}' is wrong, expected '{}'", String::from_utf8_lossy(&h.magic), String::from_utf8_lossy(want_magic)),
+            format!(
+                "header magic '{}' is wrong, expected '{}'",
+                String::from_utf8_lossy(&h.magic),
+                String::from_utf8_lossy(want_magic)
+            ),
         ));
     }
     if h.width != WIDTH || h.height != HEIGHT {
-        return Err(Error::input(path, "header", format!("size {}x{} is not supported, expected {WIDTH}x{HEIGHT}", h.width, h.height)));
+        return Err(Error::input(
+            path,
+            "header",
+            format!(
+                "size {}x{} is not supported, expected {WIDTH}x{HEIGHT}",
+                h.width, h.height
+            ),
+        ));
     }
     if h.maxval != want_max {
-        return Err(Error::input(path, "header", format!("maxval {} is wrong, expected {want_max}", h.maxval)));
+        return Err(Error::input(
+            path,
+            "header",
+            format!("maxval {} is wrong, expected {want_max}", h.maxval),
+        ));
     }
     let want = PIXELS * bytes_per_px;
     let got = bytes.len() - h.data_start;
     if got < want {
-        return Err(Error::input(path, format!("byte {}", bytes.len()), format!("truncated: {got} sample bytes, expected {want}")));
+        return Err(Error::input(
+            path,
+            format!("byte {}", bytes.len()),
+            format!("truncated: {got} sample bytes, expected {want}"),
+        ));
     }
     if got > want {
-        return Err(Error::input(path, format!("byte {}", h.data_start + want), format!("{} unexpected bytes after the {want} sample bytes", got - want)));
+        return Err(Error::input(
+            path,
+            format!("byte {}", h.data_start + want),
+            format!(
+                "{} unexpected bytes after the {want} sample bytes",
+                got - want
+            ),
+        ));
     }
     Ok(())
 }
@@ -108,7 +164,12 @@ pub fn decode_depth(path: &Path, bytes: &[u8], out: &mut [u16]) -> Result<()> {
         if v > NO_DEPTH {
             return Err(Error::input(
                 path,
-                format!("pixel ({}, {}) at byte {}", i % WIDTH, i / WIDTH, h.data_start + 2 * i),
+                format!(
+                    "pixel ({}, {}) at byte {}",
+                    i % WIDTH,
+                    i / WIDTH,
+                    h.data_start + 2 * i
+                ),
                 format!("raw value {v} is above 2047 (11-bit depth, little-endian expected)"),
             ));
         }
@@ -178,16 +239,35 @@ mod tests {
     #[test]
     fn rejects_truncated_and_wrong_size_and_big_values() {
         let mut out = vec![0u16; PIXELS];
-        let e = decode_depth(Path::new("d.pgm"), &pgm("P5 640 480 65535\n", PIXELS - 1), &mut out).unwrap_err().to_string();
-        assert!(e.starts_with("d.pgm: byte ") && e.contains("truncated"), "{e}");
-        let e = decode_depth(Path::new("d.pgm"), &pgm("P5 320 240 65535\n", 320 * 240), &mut out).unwrap_err().to_string();
+        let e = decode_depth(
+            Path::new("d.pgm"),
+            &pgm("P5 640 480 65535\n", PIXELS - 1),
+            &mut out,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.starts_with("d.pgm: byte ") && e.contains("truncated"),
+            "{e}"
+        );
+        let e = decode_depth(
+            Path::new("d.pgm"),
+            &pgm("P5 320 240 65535\n", 320 * 240),
+            &mut out,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("320x240"), "{e}");
         let mut b = pgm("P5 640 480 65535\n", PIXELS);
         let n = b.len();
         b[n - 1] = 0x08; // last pixel 0x08ff = 2303 > 2047
-        let e = decode_depth(Path::new("d.pgm"), &b, &mut out).unwrap_err().to_string();
+        let e = decode_depth(Path::new("d.pgm"), &b, &mut out)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("pixel (639, 479)") && e.contains("2303"), "{e}");
-        let e = decode_depth(Path::new("d.pgm"), b"P6 640 480 255\n", &mut out).unwrap_err().to_string();
+        let e = decode_depth(Path::new("d.pgm"), b"P6 640 480 255\n", &mut out)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("magic"), "{e}");
     }
 }

@@ -26,17 +26,36 @@ impl RecordingWriter {
     pub fn create(dir: &Path) -> Result<Self> {
         if dir.exists() {
             if !dir.is_dir() {
-                return Err(Error::input(dir, "", "exists and is not a folder: give a new folder for the recording"));
+                return Err(Error::input(
+                    dir,
+                    "",
+                    "exists and is not a folder: give a new folder for the recording",
+                ));
             }
-            let mut entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, "reading folder", e))?;
+            let mut entries =
+                std::fs::read_dir(dir).map_err(|e| Error::io(dir, "reading folder", e))?;
             if entries.next().is_some() {
-                return Err(Error::input(dir, "", "is not empty: give a new or empty folder for the recording"));
+                return Err(Error::input(
+                    dir,
+                    "",
+                    "is not empty: give a new or empty folder for the recording",
+                ));
             }
         }
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating folder", e))?;
         let index_path = dir.join("INDEX.txt");
-        let index = File::options().create_new(true).append(true).open(&index_path).map_err(|e| Error::io(&index_path, "creating", e))?;
-        Ok(RecordingWriter { dir: dir.to_path_buf(), index, index_path, depth_frames: 0, rgb_frames: 0 })
+        let index = File::options()
+            .create_new(true)
+            .append(true)
+            .open(&index_path)
+            .map_err(|e| Error::io(&index_path, "creating", e))?;
+        Ok(RecordingWriter {
+            dir: dir.to_path_buf(),
+            index,
+            index_path,
+            depth_frames: 0,
+            rgb_frames: 0,
+        })
     }
 
     /// The recording folder.
@@ -70,8 +89,11 @@ impl RecordingWriter {
     /// Writes `calibration.toml` and flushes INDEX.txt to the disk.
     pub fn finish(self, calibration: &Calibration) -> Result<()> {
         let path = self.dir.join("calibration.toml");
-        std::fs::write(&path, calibration.to_toml_string()).map_err(|e| Error::io(&path, "writing", e))?;
-        self.index.sync_all().map_err(|e| Error::io(&self.index_path, "flushing", e))
+        std::fs::write(&path, calibration.to_toml_string())
+            .map_err(|e| Error::io(&path, "writing", e))?;
+        self.index
+            .sync_all()
+            .map_err(|e| Error::io(&self.index_path, "flushing", e))
     }
 
     fn append(&mut self, name: &str) -> Result<()> {
@@ -92,15 +114,25 @@ mod tests {
 
     #[test]
     fn a_written_recording_reads_back_and_names_follow_fakenect() {
-        assert_eq!(file_name('d', 1316653580.471513, 1316138413, "pgm"), "d-1316653580.471513-1316138413.pgm");
+        assert_eq!(
+            file_name('d', 1316653580.471513, 1316138413, "pgm"),
+            "d-1316653580.471513-1316138413.pgm"
+        );
         let tmp = tempfile::tempdir().unwrap();
         let dir = tmp.path().join("rec");
         let mut w = RecordingWriter::create(&dir).unwrap();
-        let depth: Vec<Vec<u16>> = (0..3).map(|k| (0..PIXELS).map(|i| ((i * 7 + k) % 2048) as u16).collect()).collect();
+        let depth: Vec<Vec<u16>> = (0..3)
+            .map(|k| (0..PIXELS).map(|i| ((i * 7 + k) % 2048) as u16).collect())
+            .collect();
         let rgb: Vec<u8> = (0..PIXELS * 3).map(|i| (i % 251) as u8).collect();
         for (k, d) in depth.iter().enumerate() {
             let t = 1.8e9 + k as f64 / 30.0;
-            w.write_depth(t, (u32::MAX - 1_000_000).wrapping_add(2_000_000 * k as u32), d).unwrap();
+            w.write_depth(
+                t,
+                (u32::MAX - 1_000_000).wrapping_add(2_000_000 * k as u32),
+                d,
+            )
+            .unwrap();
             w.write_rgb(t + 0.002, 7 + k as u32, &rgb).unwrap();
         }
         assert_eq!(w.counts(), (3, 3));
@@ -114,7 +146,14 @@ mod tests {
             rec.read_depth_with(k, &mut Vec::new(), &mut back).unwrap();
             assert!(back == *d, "depth frame {k}");
         }
-        assert_eq!(rec.frames()[2].depth.device_ts, (u32::MAX - 1_000_000).wrapping_add(4_000_000), "timestamps wrap as the device's do");
-        assert!(RecordingWriter::create(&dir).unwrap_err().to_string().contains("is not empty"));
+        assert_eq!(
+            rec.frames()[2].depth.device_ts,
+            (u32::MAX - 1_000_000).wrapping_add(4_000_000),
+            "timestamps wrap as the device's do"
+        );
+        assert!(RecordingWriter::create(&dir)
+            .unwrap_err()
+            .to_string()
+            .contains("is not empty"));
     }
 }

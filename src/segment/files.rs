@@ -32,7 +32,10 @@ pub fn read_mask_png(path: &Path, out: &mut [u8]) -> Result<()> {
         return Err(Error::input(
             path,
             format!("pixel ({}, {})", i % WIDTH, i / WIDTH),
-            format!("value {} is not a mask value, expected 0 (background) or 255 (foreground)", out[i]),
+            format!(
+                "value {} is not a mask value, expected 0 (background) or 255 (foreground)",
+                out[i]
+            ),
         ));
     }
     Ok(())
@@ -47,7 +50,10 @@ pub fn overlay(rgb: &[u8], mask: &[u8], seeds: &[u8], out: &mut Vec<u8>) {
         let (u, v) = (i % WIDTH, i / WIDTH);
         let fg = mask[i] != 0;
         let edge = fg
-            && ((u > 0 && mask[i - 1] == 0) || (u + 1 < WIDTH && mask[i + 1] == 0) || (v > 0 && mask[i - WIDTH] == 0) || (v + 1 < HEIGHT && mask[i + WIDTH] == 0));
+            && ((u > 0 && mask[i - 1] == 0)
+                || (u + 1 < WIDTH && mask[i + 1] == 0)
+                || (v > 0 && mask[i - WIDTH] == 0)
+                || (v + 1 < HEIGHT && mask[i + WIDTH] == 0));
         let px: [u8; 3] = match seeds[i] {
             FG => [0, 255, 0],
             BG => [255, 0, 255],
@@ -62,8 +68,17 @@ pub fn overlay(rgb: &[u8], mask: &[u8], seeds: &[u8], out: &mut Vec<u8>) {
 /// Writes an RGB8 640×480 picture as PNG, atomically.
 pub fn write_rgb_png(path: &Path, rgb: &[u8], buf: &mut Vec<u8>) -> Result<()> {
     buf.clear();
-    image::codecs::png::PngEncoder::new_with_quality(&mut *buf, image::codecs::png::CompressionType::Fast, image::codecs::png::FilterType::Sub)
-        .write_image(rgb, WIDTH as u32, HEIGHT as u32, image::ExtendedColorType::Rgb8)
-        .map_err(|e| Error::input(path, "", format!("encoding PNG failed: {e}")))?;
+    image::codecs::png::PngEncoder::new_with_quality(
+        &mut *buf,
+        image::codecs::png::CompressionType::Fast,
+        image::codecs::png::FilterType::Sub,
+    )
+    .write_image(
+        rgb,
+        WIDTH as u32,
+        HEIGHT as u32,
+        image::ExtendedColorType::Rgb8,
+    )
+    .map_err(|e| Error::input(path, "", format!("encoding PNG failed: {e}")))?;
     write_atomically(path, buf)
 }

@@ -44,7 +44,12 @@ impl Stats {
     /// Adds sample `x` (depth `x[3] == 0` means none) to component `k`.
     #[inline]
     pub fn add(&mut self, k: usize, x: &Point) {
-        let c = [f64::from(x[0]), f64::from(x[1]), f64::from(x[2]), f64::from(x[3])];
+        let c = [
+            f64::from(x[0]),
+            f64::from(x[1]),
+            f64::from(x[2]),
+            f64::from(x[3]),
+        ];
         self.n3[k] += 1.0;
         let mut t = 0;
         for i in 0..3 {
@@ -120,7 +125,10 @@ impl Gmm {
                 }
                 m[(3, 3)] += REG_DEPTH;
                 if let Some(comp) = comp4(&m, &mean, n / total4) {
-                    self.full[self.nfull] = Comp { slot: k as u8, ..comp };
+                    self.full[self.nfull] = Comp {
+                        slot: k as u8,
+                        ..comp
+                    };
                     self.nfull += 1;
                 }
             }
@@ -139,7 +147,10 @@ impl Gmm {
                     m[(i, i)] += REG_COLOUR;
                 }
                 if let Some(comp) = comp3(&m, &mean, n / total3) {
-                    self.colour[self.ncolour] = Comp { slot: k as u8, ..comp };
+                    self.colour[self.ncolour] = Comp {
+                        slot: k as u8,
+                        ..comp
+                    };
                     self.ncolour += 1;
                 }
             }
@@ -155,13 +166,24 @@ impl Gmm {
         if x[3] > 0.0 && self.nfull > 0 {
             best.0 = f32::INFINITY;
             for c in &self.full[..self.nfull] {
-                let d = [x[0] - c.mean[0], x[1] - c.mean[1], x[2] - c.mean[2], x[3] - c.mean[3]];
+                let d = [
+                    x[0] - c.mean[0],
+                    x[1] - c.mean[1],
+                    x[2] - c.mean[2],
+                    x[3] - c.mean[3],
+                ];
                 let a = &c.icov;
                 let q = a[0] * d[0] * d[0]
                     + a[4] * d[1] * d[1]
                     + a[7] * d[2] * d[2]
                     + a[9] * d[3] * d[3]
-                    + 2.0 * (a[1] * d[0] * d[1] + a[2] * d[0] * d[2] + a[3] * d[0] * d[3] + a[5] * d[1] * d[2] + a[6] * d[1] * d[3] + a[8] * d[2] * d[3]);
+                    + 2.0
+                        * (a[1] * d[0] * d[1]
+                            + a[2] * d[0] * d[2]
+                            + a[3] * d[0] * d[3]
+                            + a[5] * d[1] * d[2]
+                            + a[6] * d[1] * d[3]
+                            + a[8] * d[2] * d[3]);
                 let e = c.bias + 0.5 * q;
                 if e < best.0 {
                     best = (e, c.slot);
@@ -172,7 +194,10 @@ impl Gmm {
             for c in &self.colour[..self.ncolour] {
                 let d = [x[0] - c.mean[0], x[1] - c.mean[1], x[2] - c.mean[2]];
                 let a = &c.icov;
-                let q = a[0] * d[0] * d[0] + a[3] * d[1] * d[1] + a[5] * d[2] * d[2] + 2.0 * (a[1] * d[0] * d[1] + a[2] * d[0] * d[2] + a[4] * d[1] * d[2]);
+                let q = a[0] * d[0] * d[0]
+                    + a[3] * d[1] * d[1]
+                    + a[5] * d[2] * d[2]
+                    + 2.0 * (a[1] * d[0] * d[1] + a[2] * d[0] * d[2] + a[4] * d[1] * d[2]);
                 let e = c.bias + 0.5 * q;
                 if e < best.0 {
                     best = (e, c.slot);
@@ -184,39 +209,48 @@ impl Gmm {
 }
 
 fn comp4(m: &Matrix4<f64>, mean: &[f64; 4], weight: f64) -> Option<Comp> {
-    let det = m.determinant();
     let inv = m.try_inverse()?;
-    if det <= 0.0 || !det.is_finite() {
-        return None;
-    }
-    let mut icov = [0.0f32; 10];
-    let mut t = 0;
-    for i in 0..4 {
-        for j in i..4 {
-            icov[t] = inv[(i, j)] as f32;
-            t += 1;
-        }
-    }
-    let bias = -weight.ln() + 0.5 * det.ln() + 2.0 * (2.0 * std::f64::consts::PI).ln();
-    Some(Comp { slot: 0, mean: mean.map(|v| v as f32), icov, bias: bias as f32 })
+    comp(m.determinant(), |i, j| inv[(i, j)], 4, *mean, weight)
 }
 
 fn comp3(m: &Matrix3<f64>, mean: &[f64; 3], weight: f64) -> Option<Comp> {
-    let det = m.determinant();
     let inv = m.try_inverse()?;
+    comp(
+        m.determinant(),
+        |i, j| inv[(i, j)],
+        3,
+        [mean[0], mean[1], mean[2], 0.0],
+        weight,
+    )
+}
+
+/// A component of dimension `n` (3 or 4) from its covariance's determinant and inverse: the
+/// upper triangle of the inverse, and the constant part of the negative log-likelihood.
+fn comp(
+    det: f64,
+    inv: impl Fn(usize, usize) -> f64,
+    n: usize,
+    mean: [f64; 4],
+    weight: f64,
+) -> Option<Comp> {
     if det <= 0.0 || !det.is_finite() {
         return None;
     }
     let mut icov = [0.0f32; 10];
     let mut t = 0;
-    for i in 0..3 {
-        for j in i..3 {
-            icov[t] = inv[(i, j)] as f32;
+    for i in 0..n {
+        for j in i..n {
+            icov[t] = inv(i, j) as f32;
             t += 1;
         }
     }
-    let bias = -weight.ln() + 0.5 * det.ln() + 1.5 * (2.0 * std::f64::consts::PI).ln();
-    Some(Comp { slot: 0, mean: [mean[0] as f32, mean[1] as f32, mean[2] as f32, 0.0], icov, bias: bias as f32 })
+    let bias = -weight.ln() + 0.5 * det.ln() + 0.5 * n as f64 * (2.0 * std::f64::consts::PI).ln();
+    Some(Comp {
+        slot: 0,
+        mean: mean.map(|v| v as f32),
+        icov,
+        bias: bias as f32,
+    })
 }
 
 #[cfg(test)]
@@ -238,7 +272,10 @@ mod tests {
         let (_, k1) = g.cost(&[150.0, 150.0, 145.0, 300.0], 99.0);
         assert_ne!(k0, k1);
         let (off, _) = g.cost(&[200.0, 40.0, 30.0, 300.0], 99.0);
-        assert!(off > near + 20.0, "a red pixel at the grey depth is unlikely: {off} vs {near}");
+        assert!(
+            off > near + 20.0,
+            "a red pixel at the grey depth is unlikely: {off} vs {near}"
+        );
         // No depth: colour alone decides, and a red pixel is as likely as with its right depth.
         let (c, _) = g.cost(&[200.0, 40.0, 30.0, 0.0], 99.0);
         assert!(c < off);

@@ -31,7 +31,14 @@ fn next(state: &mut u32) -> u32 {
 /// `assign` (one cluster index per point) and `centres`, and returns the number of clusters used.
 /// `weights` scales each dimension's distance; `scratch` holds per-point distances (same length as
 /// `points`). Deterministic for given inputs.
-pub fn kmeans(points: &[Point], weights: &Point, iterations: usize, centres: &mut [Point], assign: &mut [u8], scratch: &mut [f32]) -> usize {
+pub fn kmeans(
+    points: &[Point],
+    weights: &Point,
+    iterations: usize,
+    centres: &mut [Point],
+    assign: &mut [u8],
+    scratch: &mut [f32],
+) -> usize {
     let n = points.len();
     let k = centres.len().min(n).min(255);
     if k == 0 {
@@ -120,7 +127,14 @@ mod tests {
     #[test]
     fn finds_three_separated_blobs() {
         let mut pts = Vec::new();
-        for (i, c) in [[10.0, 10.0, 10.0, 100.0], [200.0, 30.0, 30.0, 150.0], [50.0, 200.0, 90.0, 300.0]].iter().enumerate() {
+        for (i, c) in [
+            [10.0, 10.0, 10.0, 100.0],
+            [200.0, 30.0, 30.0, 150.0],
+            [50.0, 200.0, 90.0, 300.0],
+        ]
+        .iter()
+        .enumerate()
+        {
             for j in 0..50 {
                 let e = (j % 7) as f32 - 3.0 + i as f32;
                 pts.push([c[0] + e, c[1] - e, c[2] + e * 0.5, c[3] + e]);
@@ -133,7 +147,10 @@ mod tests {
         assert_eq!(k, 3);
         for b in 0..3 {
             let first = assign[b * 50];
-            assert!(assign[b * 50..(b + 1) * 50].iter().all(|&a| a == first), "blob {b} split");
+            assert!(
+                assign[b * 50..(b + 1) * 50].iter().all(|&a| a == first),
+                "blob {b} split"
+            );
         }
         assert!(assign[0] != assign[50] && assign[50] != assign[100] && assign[0] != assign[100]);
     }

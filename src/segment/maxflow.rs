@@ -76,7 +76,10 @@ impl GridFlow {
             self.inside.clear();
             self.inside.extend((0..n).map(|p| {
                 let (u, v) = (p % w, p / w);
-                u8::from(u + 1 < w) | u8::from(v + 1 < h) << 1 | u8::from(u > 0) << 2 | u8::from(v > 0) << 3
+                u8::from(u + 1 < w)
+                    | u8::from(v + 1 < h) << 1
+                    | u8::from(u > 0) << 2
+                    | u8::from(v > 0) << 3
             }));
         }
         self.active.clear();
@@ -179,9 +182,15 @@ impl GridFlow {
             let mut meet = None;
             let tree = self.tree[p];
             for k in 0..DIRS as u8 {
-                let Some(q) = self.neighbour(p, k) else { continue };
+                let Some(q) = self.neighbour(p, k) else {
+                    continue;
+                };
                 // Residual capacity in the direction the tree grows: out of S, into T.
-                let c = if tree == SRC { self.cap[DIRS * p + k as usize] } else { self.cap[DIRS * q + (k as usize ^ 2)] };
+                let c = if tree == SRC {
+                    self.cap[DIRS * p + k as usize]
+                } else {
+                    self.cap[DIRS * q + (k as usize ^ 2)]
+                };
                 if c <= 0 {
                     continue;
                 }
@@ -216,9 +225,15 @@ impl GridFlow {
 
     /// Pushes the bottleneck along source → … → (p —k→ q or q → p) → … → sink.
     fn augment(&mut self, p: usize, k: u8) {
-        let q = self.neighbour(p, k).expect("meeting arc is inside the grid");
+        let q = self
+            .neighbour(p, k)
+            .expect("meeting arc is inside the grid");
         // Orient the meeting arc from the S node to the T node.
-        let (s_node, t_node, mid) = if self.tree[p] == SRC { (p, q, DIRS * p + k as usize) } else { (q, p, DIRS * q + (k as usize ^ 2)) };
+        let (s_node, t_node, mid) = if self.tree[p] == SRC {
+            (p, q, DIRS * p + k as usize)
+        } else {
+            (q, p, DIRS * q + (k as usize ^ 2))
+        };
         let mut b = self.cap[mid];
         // Bottleneck on the source side: arcs parent → child.
         let mut x = s_node;
@@ -244,7 +259,11 @@ impl GridFlow {
             x = self.neighbour(x, pk).expect("parent inside grid");
         }
         // Push b.
-        let mid_rev = if s_node == p { DIRS * q + (k as usize ^ 2) } else { DIRS * p + k as usize };
+        let mid_rev = if s_node == p {
+            DIRS * q + (k as usize ^ 2)
+        } else {
+            DIRS * p + k as usize
+        };
         self.cap[mid] -= b;
         self.cap[mid_rev] += b;
         let mut x = s_node;
@@ -300,12 +319,18 @@ impl GridFlow {
             let tree = self.tree[x];
             let mut best: Option<(u8, u32)> = None;
             for k in 0..DIRS as u8 {
-                let Some(q) = self.neighbour(x, k) else { continue };
+                let Some(q) = self.neighbour(x, k) else {
+                    continue;
+                };
                 if self.tree[q] != tree || self.parent[q] == NONE {
                     continue;
                 }
                 // Residual arc from the candidate parent towards the root's flow direction.
-                let c = if tree == SRC { self.cap[DIRS * q + (k as usize ^ 2)] } else { self.cap[DIRS * x + k as usize] };
+                let c = if tree == SRC {
+                    self.cap[DIRS * q + (k as usize ^ 2)]
+                } else {
+                    self.cap[DIRS * x + k as usize]
+                };
                 if c <= 0 {
                     continue;
                 }
@@ -337,11 +362,17 @@ impl GridFlow {
             // No parent: x leaves its tree; neighbours that could feed it become active, its
             // children become orphans.
             for k in 0..DIRS as u8 {
-                let Some(q) = self.neighbour(x, k) else { continue };
+                let Some(q) = self.neighbour(x, k) else {
+                    continue;
+                };
                 if self.tree[q] != tree || self.parent[q] == NONE {
                     continue;
                 }
-                let c = if tree == SRC { self.cap[DIRS * q + (k as usize ^ 2)] } else { self.cap[DIRS * x + k as usize] };
+                let c = if tree == SRC {
+                    self.cap[DIRS * q + (k as usize ^ 2)]
+                } else {
+                    self.cap[DIRS * x + k as usize]
+                };
                 if c > 0 {
                     self.set_active(q);
                 }
@@ -404,7 +435,13 @@ mod tests {
         let w = rng.random_range(1..=4);
         let h = rng.random_range(1..=4);
         let n = w * h;
-        let cap = |rng: &mut ChaCha8Rng| if rng.random_bool(0.25) { 0 } else { rng.random_range(0..20) };
+        let cap = |rng: &mut ChaCha8Rng| {
+            if rng.random_bool(0.25) {
+                0
+            } else {
+                rng.random_range(0..20)
+            }
+        };
         let src = (0..n).map(|_| cap(rng)).collect();
         let snk = (0..n).map(|_| cap(rng)).collect();
         let mut edges = Vec::new();
@@ -416,7 +453,13 @@ mod tests {
                 edges.push((p, 1, cap(rng), cap(rng)));
             }
         }
-        Problem { w, h, src, snk, edges }
+        Problem {
+            w,
+            h,
+            src,
+            snk,
+            edges,
+        }
     }
 
     /// Cost of a cut: `side[p]` true = source side.
@@ -440,7 +483,10 @@ mod tests {
     /// The reference: the cheapest of all 2^n cuts.
     fn brute_force_min_cut(pr: &Problem) -> i64 {
         let n = pr.w * pr.h;
-        (0..1u32 << n).map(|m| cut_cost(pr, &(0..n).map(|p| m >> p & 1 == 1).collect::<Vec<_>>())).min().unwrap()
+        (0..1u32 << n)
+            .map(|m| cut_cost(pr, &(0..n).map(|p| m >> p & 1 == 1).collect::<Vec<_>>()))
+            .min()
+            .unwrap()
     }
 
     #[test]

@@ -172,7 +172,10 @@ impl Segmenter {
     /// Segments one frame: `rgb` is the RGB image (640·480·3), `classified` the classifier's
     /// output for the same frame; writes `mask` (640·480, 255 foreground, 0 background).
     pub fn segment(&mut self, rgb: &[u8], classified: &Classified, mask: &mut [u8]) -> Outcome {
-        assert!(rgb.len() == 3 * PIXELS && mask.len() == PIXELS, "a frame is 640x480");
+        assert!(
+            rgb.len() == 3 * PIXELS && mask.len() == PIXELS,
+            "a frame is 640x480"
+        );
         let labels = &classified.rgb_labels;
         let mm = &classified.registered_mm;
         fill_features(rgb, labels, mm, &mut self.features);
@@ -190,10 +193,18 @@ impl Segmenter {
                     );
                 }
                 if self.params.planes.max_planes > 0 {
-                    seeds::plane_seeds(labels, mm, &self.params.planes, &mut self.seeds, &mut self.plane);
+                    seeds::plane_seeds(
+                        labels,
+                        mm,
+                        &self.params.planes,
+                        &mut self.seeds,
+                        &mut self.plane,
+                    );
                 }
             }
-            SeedMode::Threshold { tf_m, tb_m } => seeds::threshold_seeds(labels, mm, tf_m, tb_m, &mut self.seeds),
+            SeedMode::Threshold { tf_m, tb_m } => {
+                seeds::threshold_seeds(labels, mm, tf_m, tb_m, &mut self.seeds)
+            }
         }
         out.fg_seeds = self.seeds.iter().filter(|&&s| s == FG).count();
         out.bg_seeds = self.seeds.iter().filter(|&&s| s == BG).count();
@@ -222,26 +233,54 @@ impl Segmenter {
     fn init_mixtures(&mut self, have_bg: bool) {
         let k = self.params.components.clamp(1, gmm::MAX_COMPONENTS);
         for side in [FG, BG] {
-            let want = |s: u8| if side == BG && !have_bg { s == 0 } else { s == side };
+            let want = |s: u8| {
+                if side == BG && !have_bg {
+                    s == 0
+                } else {
+                    s == side
+                }
+            };
             let n = self.seeds.iter().filter(|&&s| want(s)).count();
             let stride = n.div_ceil(INIT_SAMPLES).max(1);
             self.samples.clear();
-            for (j, f) in self.seeds.iter().zip(&self.features).filter(|(&s, f)| want(s) && f[3] > 0.0).map(|(_, f)| f).enumerate() {
+            for (j, f) in self
+                .seeds
+                .iter()
+                .zip(&self.features)
+                .filter(|(&s, f)| want(s) && f[3] > 0.0)
+                .map(|(_, f)| f)
+                .enumerate()
+            {
                 if j % stride == 0 && self.samples.len() < INIT_SAMPLES {
                     self.samples.push(*f);
                 }
             }
-            let stats = if side == FG { &mut self.stats_fg } else { &mut self.stats_bg };
+            let stats = if side == FG {
+                &mut self.stats_fg
+            } else {
+                &mut self.stats_bg
+            };
             stats.clear();
             let m = self.samples.len();
             let mut centres = [[0.0f32; 4]; gmm::MAX_COMPONENTS];
-            let used = kmeans::kmeans(&self.samples, &[1.0; 4], 10, &mut centres[..k], &mut self.assign[..m], &mut self.dist[..m]);
+            let used = kmeans::kmeans(
+                &self.samples,
+                &[1.0; 4],
+                10,
+                &mut centres[..k],
+                &mut self.assign[..m],
+                &mut self.dist[..m],
+            );
             if used > 0 {
                 for (&a, p) in self.assign[..m].iter().zip(&self.samples) {
                     stats.add(a as usize, p);
                 }
             }
-            let g = if side == FG { &mut self.fg } else { &mut self.bg };
+            let g = if side == FG {
+                &mut self.fg
+            } else {
+                &mut self.bg
+            };
             g.fit(stats);
         }
     }
@@ -266,7 +305,11 @@ impl Segmenter {
                 }
             }
         }
-        let beta = if sum > 0.0 { (count as f64 / (2.0 * sum)) as f32 } else { 0.0 };
+        let beta = if sum > 0.0 {
+            (count as f64 / (2.0 * sum)) as f32
+        } else {
+            0.0
+        };
         let beta_d = 1.0 / (2.0 * self.params.depth_sigma_cm * self.params.depth_sigma_cm);
         let g = self.params.gamma * SCALE;
         let weight = |a: &Point, b: &Point| {
@@ -280,8 +323,16 @@ impl Segmenter {
         for v in 0..HEIGHT {
             for u in 0..WIDTH {
                 let p = v * WIDTH + u;
-                self.right[p] = if u + 1 < WIDTH { weight(&f[p], &f[p + 1]) } else { 0 };
-                self.down[p] = if v + 1 < HEIGHT { weight(&f[p], &f[p + WIDTH]) } else { 0 };
+                self.right[p] = if u + 1 < WIDTH {
+                    weight(&f[p], &f[p + 1])
+                } else {
+                    0
+                };
+                self.down[p] = if v + 1 < HEIGHT {
+                    weight(&f[p], &f[p + WIDTH])
+                } else {
+                    0
+                };
             }
         }
     }
@@ -308,7 +359,11 @@ impl Segmenter {
                     // Source side = foreground: ending on the sink side costs the bg cost.
                     let d = (cb - cf).clamp(-MAX_COST, MAX_COST);
                     let (src, snk) = if d > 0.0 { (d, 0.0) } else { (0.0, -d) };
-                    flow.set_terminals(p, (src * SCALE).round() as i32, (snk * SCALE).round() as i32);
+                    flow.set_terminals(
+                        p,
+                        (src * SCALE).round() as i32,
+                        (snk * SCALE).round() as i32,
+                    );
                 }
             }
             if p % WIDTH + 1 < WIDTH {
@@ -371,7 +426,12 @@ pub fn fill_features(rgb: &[u8], labels: &[u8], mm: &[u16], out: &mut [Point]) {
                 carry = 0.0;
                 0.0
             };
-            out[i] = [f32::from(rgb[3 * i]), f32::from(rgb[3 * i + 1]), f32::from(rgb[3 * i + 2]), d];
+            out[i] = [
+                f32::from(rgb[3 * i]),
+                f32::from(rgb[3 * i + 1]),
+                f32::from(rgb[3 * i + 2]),
+                d,
+            ];
         }
         let mut carry = 0.0f32;
         for u in (0..WIDTH).rev() {

@@ -45,7 +45,12 @@ pub struct SeedParams {
 
 impl Default for SeedParams {
     fn default() -> Self {
-        SeedParams { inset_px: 3, len_px: 10, min_step_inv_m: 0.04, max_gap_px: 40 }
+        SeedParams {
+            inset_px: 3,
+            len_px: 10,
+            min_step_inv_m: 0.04,
+            max_gap_px: 40,
+        }
     }
 }
 
@@ -65,7 +70,17 @@ fn in_front(near: u16, far: u16, p: &SeedParams) -> bool {
 /// Marks seeds walking from edge pixel `edge` in direction `step` (±1) along row `row`, on the
 /// edge's surface: offsets `inset..inset + len`. Stops at a hole or a depth discontinuity.
 #[allow(clippy::too_many_arguments)] // one row's slices and one walk's geometry; a struct would only rename them
-fn walk(labels: &[u8], mm: &[u16], row: usize, edge: usize, step: isize, inset: usize, len: usize, code: u8, seeds: &mut [u8]) {
+fn walk(
+    labels: &[u8],
+    mm: &[u16],
+    row: usize,
+    edge: usize,
+    step: isize,
+    inset: usize,
+    len: usize,
+    code: u8,
+    seeds: &mut [u8],
+) {
     let mut prev = mm[row + edge];
     for j in 1..inset + len {
         let x = edge as isize + step * j as isize;
@@ -127,7 +142,15 @@ pub fn shadow_seeds(labels: &[u8], mm: &[u16], p: &SeedParams, seeds: &mut [u8])
 }
 
 /// Seeds of one detached shadow whose run ends at `left` (Sa) and `right` (first lit pixel).
-fn detached(l: &[u8], mm: &[u16], row: usize, sa: usize, right: usize, p: &SeedParams, seeds: &mut [u8]) {
+fn detached(
+    l: &[u8],
+    mm: &[u16],
+    row: usize,
+    sa: usize,
+    right: usize,
+    p: &SeedParams,
+    seeds: &mut [u8],
+) {
     // Cross the lit background strip to the thin occluder's left edge Fa.
     let mut x = right;
     let fa = loop {
@@ -207,7 +230,13 @@ pub struct ClusterScratch {
 /// claim the minority is wrong. A cluster whose minority exceeds `max_minority` is ambiguous (a
 /// far object that is "background" beyond one shadow and "foreground" inside its own) and loses
 /// all its seeds. Returns the number of seeds rejected.
-pub fn reject_by_clusters(seeds: &mut [u8], features: &[Point], clusters: usize, max_minority: f32, s: &mut ClusterScratch) -> usize {
+pub fn reject_by_clusters(
+    seeds: &mut [u8],
+    features: &[Point],
+    clusters: usize,
+    max_minority: f32,
+    s: &mut ClusterScratch,
+) -> usize {
     s.index.clear();
     s.points.clear();
     for (i, (&seed, f)) in seeds.iter().zip(features).enumerate() {
@@ -225,7 +254,14 @@ pub fn reject_by_clusters(seeds: &mut [u8], features: &[Point], clusters: usize,
     // Depth in cm against colour in 8-bit units: 10 cm of depth weigh like 10 levels of colour.
     let weights = [1.0, 1.0, 1.0, 1.0];
     let mut centres = [[0.0f32; 4]; 32];
-    kmeans::kmeans(&s.points, &weights, 15, &mut centres[..clusters.min(32)], &mut s.assign, &mut s.dist);
+    kmeans::kmeans(
+        &s.points,
+        &weights,
+        15,
+        &mut centres[..clusters.min(32)],
+        &mut s.assign,
+        &mut s.dist,
+    );
     let mut votes = [[0u32; 2]; 32];
     for (&a, &i) in s.assign.iter().zip(&s.index) {
         votes[a as usize][usize::from(seeds[i as usize] == BG)] += 1;
@@ -263,7 +299,14 @@ pub struct PlaneParams {
 
 impl Default for PlaneParams {
     fn default() -> Self {
-        PlaneParams { max_planes: 4, min_share: 0.06, tol_inv_m: 0.005, max_fg_share: 0.02, min_bg_seeds: 10, hypotheses: 150 }
+        PlaneParams {
+            max_planes: 4,
+            min_share: 0.06,
+            tol_inv_m: 0.005,
+            max_fg_share: 0.02,
+            min_bg_seeds: 10,
+            hypotheses: 150,
+        }
     }
 }
 
@@ -281,14 +324,21 @@ pub struct PlaneScratch {
 /// Its measured pixels then become background seeds, its foreground seeds are dropped. This also
 /// reaches floor and wall parts no shadow touches (the floor before an object). Returns the
 /// number of planes used.
-pub fn plane_seeds(labels: &[u8], mm: &[u16], p: &PlaneParams, seeds: &mut [u8], s: &mut PlaneScratch) -> usize {
+pub fn plane_seeds(
+    labels: &[u8],
+    mm: &[u16],
+    p: &PlaneParams,
+    seeds: &mut [u8],
+    s: &mut PlaneScratch,
+) -> usize {
     const STRIDE: usize = 4;
     s.samples.clear();
     for v in (0..labels.len() / WIDTH).step_by(STRIDE) {
         for u in (0..WIDTH).step_by(STRIDE) {
             let i = v * WIDTH + u;
             if labels[i] == VALID && mm[i] > 0 {
-                s.samples.push([u as f32, v as f32, 1000.0 / f32::from(mm[i])]);
+                s.samples
+                    .push([u as f32, v as f32, 1000.0 / f32::from(mm[i])]);
             }
         }
     }
@@ -304,8 +354,14 @@ pub fn plane_seeds(labels: &[u8], mm: &[u16], p: &PlaneParams, seeds: &mut [u8],
         for _ in 0..p.hypotheses {
             let pick = |rng: &mut u32| s.samples[(next(rng) as usize) % n];
             let (a, b, c) = (pick(&mut rng), pick(&mut rng), pick(&mut rng));
-            let Some(pl) = plane_through(&a, &b, &c) else { continue };
-            let count = s.samples.iter().filter(|x| (x[2] - eval(&pl, x[0], x[1])).abs() < p.tol_inv_m).count();
+            let Some(pl) = plane_through(&a, &b, &c) else {
+                continue;
+            };
+            let count = s
+                .samples
+                .iter()
+                .filter(|x| (x[2] - eval(&pl, x[0], x[1])).abs() < p.tol_inv_m)
+                .count();
             if best.is_none_or_smaller(count) {
                 best = Some((pl, count));
             }
@@ -314,9 +370,11 @@ pub fn plane_seeds(labels: &[u8], mm: &[u16], p: &PlaneParams, seeds: &mut [u8],
         if (count as f32) < p.min_share * total as f32 {
             break;
         }
-        let on = |i: usize| labels[i] == VALID && mm[i] > 0 && {
-            let (u, v) = ((i % WIDTH) as f32, (i / WIDTH) as f32);
-            (1000.0 / f32::from(mm[i]) - eval(&pl, u, v)).abs() < p.tol_inv_m
+        let on = |i: usize| {
+            labels[i] == VALID && mm[i] > 0 && {
+                let (u, v) = ((i % WIDTH) as f32, (i / WIDTH) as f32);
+                (1000.0 / f32::from(mm[i]) - eval(&pl, u, v)).abs() < p.tol_inv_m
+            }
         };
         let (mut fg, mut bg) = (0usize, 0usize);
         for (i, &sd) in seeds.iter().enumerate() {
@@ -329,7 +387,8 @@ pub fn plane_seeds(labels: &[u8], mm: &[u16], p: &PlaneParams, seeds: &mut [u8],
             }
         }
         // Whatever the verdict, this plane's samples are done with.
-        s.samples.retain(|x| (x[2] - eval(&pl, x[0], x[1])).abs() >= p.tol_inv_m);
+        s.samples
+            .retain(|x| (x[2] - eval(&pl, x[0], x[1])).abs() >= p.tol_inv_m);
         if bg < p.min_bg_seeds || fg as f32 > p.max_fg_share * (fg + bg) as f32 {
             continue;
         }

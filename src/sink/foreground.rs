@@ -32,7 +32,10 @@ pub trait MaskMaker: Send {
 impl MaskMaker for crate::segment::Segmenter {
     fn make(&mut self, frame: &Frame, mask: &mut [u8]) -> Result<()> {
         if !frame.has_rgb {
-            return Err(crate::error::Error::Usage(format!("frame {} has no RGB image paired with it", frame.seq)));
+            return Err(crate::error::Error::Usage(format!(
+                "frame {} has no RGB image paired with it",
+                frame.seq
+            )));
         }
         self.segment(&frame.rgb, &frame.labels, mask);
         Ok(())
@@ -80,9 +83,13 @@ impl WithForeground {
         let (idle_tx, idle) = bounded::<Box<Frame>>(1);
         let (done_tx, done) = bounded::<Done>(2);
         let (mask_back, masks) = bounded::<Vec<u8>>(2);
-        idle_tx.send(Box::default()).expect("room for the one buffer");
+        idle_tx
+            .send(Box::default())
+            .expect("room for the one buffer");
         for _ in 0..2 {
-            mask_back.send(vec![0; PIXELS]).expect("room for both masks");
+            mask_back
+                .send(vec![0; PIXELS])
+                .expect("room for both masks");
         }
         let counters = Arc::new(ForegroundCounters::default());
         let c = counters.clone();
@@ -105,13 +112,23 @@ impl WithForeground {
                         Ok(()) => {
                             c.latency.record(t.elapsed());
                             c.made.fetch_add(1, Ordering::Relaxed);
-                            if done_tx.send(Done { seq: frame.seq, unix_time: frame.unix_time, mask }).is_err() {
+                            if done_tx
+                                .send(Done {
+                                    seq: frame.seq,
+                                    unix_time: frame.unix_time,
+                                    mask,
+                                })
+                                .is_err()
+                            {
                                 break;
                             }
                         }
                         Err(e) => {
                             if c.failed.fetch_add(1, Ordering::Relaxed) == 0 {
-                                warn!(seq = frame.seq, "foreground mask failed (further failures are counted): {e}");
+                                warn!(
+                                    seq = frame.seq,
+                                    "foreground mask failed (further failures are counted): {e}"
+                                );
                             }
                             spare = Some(mask);
                         }
@@ -123,7 +140,17 @@ impl WithForeground {
             })
             .ok();
         let every = Duration::from_secs_f64(1.0 / rate_hz.clamp(1e-6, 1e6));
-        WithForeground { inner, every, next_due: None, offer: Some(offer), idle, done, mask_back, counters, worker }
+        WithForeground {
+            inner,
+            every,
+            next_due: None,
+            offer: Some(offer),
+            idle,
+            done,
+            mask_back,
+            counters,
+            worker,
+        }
     }
 
     /// The stage's counters.
@@ -152,7 +179,9 @@ impl WithForeground {
         copy_frame(frame, &mut buf);
         match self.offer.as_ref().map(|o| o.try_send(buf)) {
             // Keep the cadence, but after a busy spell do not owe the missed masks.
-            Some(Ok(())) => self.next_due = Some((self.next_due.unwrap_or(now) + self.every).max(now)),
+            Some(Ok(())) => {
+                self.next_due = Some((self.next_due.unwrap_or(now) + self.every).max(now))
+            }
             Some(Err(TrySendError::Full(_) | TrySendError::Disconnected(_))) | None => {
                 self.counters.skipped.fetch_add(1, Ordering::Relaxed);
             }
@@ -169,8 +198,12 @@ fn copy_frame(from: &Frame, to: &mut Frame) {
     to.depth.copy_from_slice(&from.depth);
     to.rgb.copy_from_slice(&from.rgb);
     to.labels.ir_labels.copy_from_slice(&from.labels.ir_labels);
-    to.labels.rgb_labels.copy_from_slice(&from.labels.rgb_labels);
-    to.labels.registered_mm.copy_from_slice(&from.labels.registered_mm);
+    to.labels
+        .rgb_labels
+        .copy_from_slice(&from.labels.rgb_labels);
+    to.labels
+        .registered_mm
+        .copy_from_slice(&from.labels.registered_mm);
 }
 
 impl Sink for WithForeground {
@@ -226,7 +259,9 @@ mod tests {
 
     impl MaskMaker for Gated {
         fn make(&mut self, frame: &Frame, mask: &mut [u8]) -> Result<()> {
-            self.go.recv().map_err(|_| crate::error::Error::Usage("gate closed".into()))?;
+            self.go
+                .recv()
+                .map_err(|_| crate::error::Error::Usage("gate closed".into()))?;
             for (m, &l) in mask.iter_mut().zip(&frame.labels.rgb_labels) {
                 *m = if l == VALID { 255 } else { 0 };
             }
@@ -235,10 +270,18 @@ mod tests {
     }
 
     fn frame(seq: u64) -> Frame {
-        let mut f = Frame { seq, unix_time: 1.8e9 + seq as f64, ..Frame::default() };
+        let mut f = Frame {
+            seq,
+            unix_time: 1.8e9 + seq as f64,
+            ..Frame::default()
+        };
         // A different label pattern per frame, so each mask can be traced to its frame.
         for (i, l) in f.labels.rgb_labels.iter_mut().enumerate() {
-            *l = if i % 7 == seq as usize % 7 { ATTACHED } else { VALID };
+            *l = if i % 7 == seq as usize % 7 {
+                ATTACHED
+            } else {
+                VALID
+            };
         }
         f
     }
@@ -246,10 +289,17 @@ mod tests {
     #[test]
     fn a_busy_worker_never_holds_frames_back_and_masks_follow_their_frames() {
         let tmp = tempfile::tempdir().unwrap();
-        let opts = McapOptions { write_foreground: true, ..McapOptions::default() };
+        let opts = McapOptions {
+            write_foreground: true,
+            ..McapOptions::default()
+        };
         let (go, gate) = bounded(8);
         // A rate high enough that every frame is due: only the busy worker limits it.
-        let mut sink = WithForeground::new(McapSink::create(tmp.path(), opts).unwrap(), Box::new(Gated { go: gate }), 1e6);
+        let mut sink = WithForeground::new(
+            McapSink::create(tmp.path(), opts).unwrap(),
+            Box::new(Gated { go: gate }),
+            1e6,
+        );
         let counters = sink.counters();
         for seq in 0..10 {
             sink.write(&frame(seq)).unwrap();
@@ -266,7 +316,12 @@ mod tests {
         sink.finish().unwrap();
         drop(sink);
 
-        let seg = std::fs::read_dir(tmp.path()).unwrap().next().unwrap().unwrap().path();
+        let seg = std::fs::read_dir(tmp.path())
+            .unwrap()
+            .next()
+            .unwrap()
+            .unwrap()
+            .path();
         let bytes = std::fs::read(seg).unwrap();
         let mut masks = Vec::new();
         let mut frames = 0;
@@ -283,7 +338,12 @@ mod tests {
         for (seq, data) in masks {
             let (h, pixels) = crate::sink::mcap::ros2::decode_image(&data).unwrap();
             assert_eq!((h.encoding, h.width, h.height), ("mono8", 640, 480));
-            let want: Vec<u8> = frame(seq.into()).labels.rgb_labels.iter().map(|&l| if l == VALID { 255 } else { 0 }).collect();
+            let want: Vec<u8> = frame(seq.into())
+                .labels
+                .rgb_labels
+                .iter()
+                .map(|&l| if l == VALID { 255 } else { 0 })
+                .collect();
             assert!(pixels == want.as_slice(), "mask of frame {seq}");
         }
     }
@@ -291,13 +351,20 @@ mod tests {
     #[test]
     fn the_rate_limits_how_many_frames_are_offered() {
         let tmp = tempfile::tempdir().unwrap();
-        let opts = McapOptions { write_foreground: true, ..McapOptions::default() };
+        let opts = McapOptions {
+            write_foreground: true,
+            ..McapOptions::default()
+        };
         let (go, gate) = bounded(100);
         for _ in 0..100 {
             go.send(()).unwrap();
         }
         // One mask per hour: only the first frame is due.
-        let mut sink = WithForeground::new(McapSink::create(tmp.path(), opts).unwrap(), Box::new(Gated { go: gate }), 1.0 / 3600.0);
+        let mut sink = WithForeground::new(
+            McapSink::create(tmp.path(), opts).unwrap(),
+            Box::new(Gated { go: gate }),
+            1.0 / 3600.0,
+        );
         let counters = sink.counters();
         for seq in 0..20 {
             sink.write(&frame(seq)).unwrap();

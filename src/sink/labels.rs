@@ -16,12 +16,21 @@ pub fn label_path(dir: &Path, frame: usize, view: &str) -> PathBuf {
 
 /// Reads a SPEC §4 label PNG (640×480, 8-bit grey, values 0–4) into `out` (640·480 codes).
 pub fn read_label_png(path: &Path, out: &mut [u8]) -> Result<()> {
-    read_grey_png(path, out, "missing: ground truth needs a label PNG for every depth frame", "with one label code per pixel")?;
+    read_grey_png(
+        path,
+        out,
+        "missing: ground truth needs a label PNG for every depth frame",
+        "with one label code per pixel",
+    )?;
     if let Some(i) = out.iter().position(|&v| v as usize >= CLASSES) {
         return Err(Error::input(
             path,
             format!("pixel ({}, {})", i % WIDTH, i / WIDTH),
-            format!("value {} is not a label code, expected 0-{} (SPEC §2)", out[i], CLASSES - 1),
+            format!(
+                "value {} is not a label code, expected 0-{} (SPEC §2)",
+                out[i],
+                CLASSES - 1
+            ),
         ));
     }
     Ok(())
@@ -33,17 +42,32 @@ pub fn read_grey_png(path: &Path, out: &mut [u8], missing: &str, what: &str) -> 
     assert_eq!(out.len(), PIXELS, "a 640x480 frame");
     let file = match std::fs::File::open(path) {
         Ok(f) => f,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(Error::input(path, "", missing)),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(Error::input(path, "", missing))
+        }
         Err(e) => return Err(Error::io(path, "reading", e)),
     };
-    let bad_png = |e: image::ImageError| Error::input(path, "", format!("not a readable 8-bit grey PNG: {e}"));
+    let bad_png = |e: image::ImageError| {
+        Error::input(path, "", format!("not a readable 8-bit grey PNG: {e}"))
+    };
     let dec = image::codecs::png::PngDecoder::new(BufReader::new(file)).map_err(bad_png)?;
     let (w, h) = dec.dimensions();
     if (w as usize, h as usize) != (WIDTH, HEIGHT) {
-        return Err(Error::input(path, "header", format!("size {w}x{h} is wrong, expected {WIDTH}x{HEIGHT}")));
+        return Err(Error::input(
+            path,
+            "header",
+            format!("size {w}x{h} is wrong, expected {WIDTH}x{HEIGHT}"),
+        ));
     }
     if dec.color_type() != image::ColorType::L8 {
-        return Err(Error::input(path, "header", format!("colour type {:?} is wrong, expected 8-bit grey (L8) {what}", dec.color_type())));
+        return Err(Error::input(
+            path,
+            "header",
+            format!(
+                "colour type {:?} is wrong, expected 8-bit grey (L8) {what}",
+                dec.color_type()
+            ),
+        ));
     }
     dec.read_image(out).map_err(bad_png)
 }
@@ -59,9 +83,18 @@ pub fn write_label_png_with(path: &Path, labels: &[u8], buf: &mut Vec<u8>) -> Re
     assert_eq!(labels.len(), PIXELS, "a label frame has 640x480 codes");
     buf.clear();
     // Label maps are large flat areas: fast compression is nearly as small and several times quicker.
-    image::codecs::png::PngEncoder::new_with_quality(&mut *buf, image::codecs::png::CompressionType::Fast, image::codecs::png::FilterType::Sub)
-        .write_image(labels, WIDTH as u32, HEIGHT as u32, image::ExtendedColorType::L8)
-        .map_err(|e| Error::input(path, "", format!("encoding PNG failed: {e}")))?;
+    image::codecs::png::PngEncoder::new_with_quality(
+        &mut *buf,
+        image::codecs::png::CompressionType::Fast,
+        image::codecs::png::FilterType::Sub,
+    )
+    .write_image(
+        labels,
+        WIDTH as u32,
+        HEIGHT as u32,
+        image::ExtendedColorType::L8,
+    )
+    .map_err(|e| Error::input(path, "", format!("encoding PNG failed: {e}")))?;
     write_atomically(path, buf)
 }
 
@@ -94,7 +127,9 @@ mod tests {
         read_label_png(&p, &mut back).unwrap();
         assert_eq!(back, labels);
 
-        let e = read_label_png(&dir.path().join("nope.png"), &mut back).unwrap_err().to_string();
+        let e = read_label_png(&dir.path().join("nope.png"), &mut back)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("nope.png") && e.contains("missing"), "{e}");
 
         labels[WIDTH * 2 + 3] = 5;
@@ -112,5 +147,4 @@ mod tests {
         let e = read_label_png(&p, &mut back).unwrap_err().to_string();
         assert!(e.contains("PNG") && !e.contains('\n'), "{e}");
     }
-
 }

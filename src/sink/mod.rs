@@ -1,8 +1,8 @@
 //! Where classified frames go. [`labels`] holds the SPEC §4 label files and the
 //! [`LabelExport`] sink that writes them.
 
-pub mod labels;
 pub mod foreground;
+pub mod labels;
 pub mod mcap;
 
 use std::path::{Path, PathBuf};
@@ -39,15 +39,26 @@ impl LabelExport {
             return Err(Error::input(dir, "", "exists and is not a folder: label export needs a folder to write <i>.depth.png and <i>.rgb.png into"));
         }
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating folder", e))?;
-        Ok(LabelExport { dir: dir.to_path_buf(), buf: Vec::new() })
+        Ok(LabelExport {
+            dir: dir.to_path_buf(),
+            buf: Vec::new(),
+        })
     }
 }
 
 impl Sink for LabelExport {
     fn write(&mut self, frame: &Frame) -> Result<()> {
         let i = frame.seq as usize;
-        labels::write_label_png_with(&labels::label_path(&self.dir, i, "depth"), &frame.labels.ir_labels, &mut self.buf)?;
-        labels::write_label_png_with(&labels::label_path(&self.dir, i, "rgb"), &frame.labels.rgb_labels, &mut self.buf)
+        labels::write_label_png_with(
+            &labels::label_path(&self.dir, i, "depth"),
+            &frame.labels.ir_labels,
+            &mut self.buf,
+        )?;
+        labels::write_label_png_with(
+            &labels::label_path(&self.dir, i, "rgb"),
+            &frame.labels.rgb_labels,
+            &mut self.buf,
+        )
     }
 }
 
@@ -64,7 +75,12 @@ pub struct Tolerant<S> {
 impl<S: Sink> Tolerant<S> {
     /// Wraps `inner`; `name` says which output failed in logs.
     pub fn new(inner: S, name: &'static str) -> Self {
-        Tolerant { inner, name, lost: Arc::default(), failing: false }
+        Tolerant {
+            inner,
+            name,
+            lost: Arc::default(),
+            failing: false,
+        }
     }
 
     /// Frames this sink failed to write (shared, for status lines).
@@ -78,13 +94,21 @@ impl<S: Sink> Sink for Tolerant<S> {
         match self.inner.write(frame) {
             Ok(()) => {
                 if std::mem::take(&mut self.failing) {
-                    info!(output = self.name, lost_total = self.lost.load(Ordering::Relaxed), "writing works again");
+                    info!(
+                        output = self.name,
+                        lost_total = self.lost.load(Ordering::Relaxed),
+                        "writing works again"
+                    );
                 }
             }
             Err(e) => {
                 self.lost.fetch_add(1, Ordering::Relaxed);
                 if !std::mem::replace(&mut self.failing, true) {
-                    warn!(output = self.name, seq = frame.seq, "write failed, frames are counted as lost until it works again: {e}");
+                    warn!(
+                        output = self.name,
+                        seq = frame.seq,
+                        "write failed, frames are counted as lost until it works again: {e}"
+                    );
                 }
             }
         }

@@ -98,15 +98,25 @@ impl Shape {
                 let r = rot_y(yaw).abs();
                 (centre, r * half)
             }
-            Shape::Cylinder { centre, axis, radius, half_len } => {
-                let e = V3::from_fn(|i, _| axis[i].abs() * half_len + radius * (1.0 - axis[i] * axis[i]).max(0.0).sqrt());
+            Shape::Cylinder {
+                centre,
+                axis,
+                radius,
+                half_len,
+            } => {
+                let e = V3::from_fn(|i, _| {
+                    axis[i].abs() * half_len + radius * (1.0 - axis[i] * axis[i]).max(0.0).sqrt()
+                });
                 (centre, e)
             }
             Shape::Sphere { centre, radius } => (centre, V3::repeat(radius)),
         };
         // A hair of slack so that rounding never rejects a grazing ray that the exact test keeps.
         let e = e.add_scalar(1e-9);
-        Some(Aabb { min: c - e, max: c + e })
+        Some(Aabb {
+            min: c - e,
+            max: c + e,
+        })
     }
 
     /// Nearest intersection with `o + t·d` for `t` strictly inside `(tmin, tmax)`.
@@ -120,10 +130,15 @@ impl Shape {
                 let t = (offset - normal.dot(o)) / den;
                 (t > tmin && t < tmax).then_some(Hit { t, normal })
             }
-            Shape::Box { centre, half, yaw } => intersect_box(o, d, &centre, &half, yaw, tmin, tmax),
-            Shape::Cylinder { centre, axis, radius, half_len } => {
-                intersect_cylinder(o, d, &centre, &axis, radius, half_len, tmin, tmax)
+            Shape::Box { centre, half, yaw } => {
+                intersect_box(o, d, &centre, &half, yaw, tmin, tmax)
             }
+            Shape::Cylinder {
+                centre,
+                axis,
+                radius,
+                half_len,
+            } => intersect_cylinder(o, d, &centre, &axis, radius, half_len, tmin, tmax),
             Shape::Sphere { centre, radius } => {
                 let w = o - centre;
                 let a = d.dot(d);
@@ -134,8 +149,13 @@ impl Shape {
                     return None;
                 }
                 let s = disc.sqrt();
-                let t = [(-b - s) / a, (-b + s) / a].into_iter().find(|&t| t > tmin && t < tmax)?;
-                Some(Hit { t, normal: (w + d * t) / radius })
+                let t = [(-b - s) / a, (-b + s) / a]
+                    .into_iter()
+                    .find(|&t| t > tmin && t < tmax)?;
+                Some(Hit {
+                    t,
+                    normal: (w + d * t) / radius,
+                })
             }
         }
     }
@@ -144,18 +164,44 @@ impl Shape {
     /// through its centre (planes only shift).
     pub fn moved(&self, shift: &V3, spin: f64) -> Shape {
         match *self {
-            Shape::Plane { normal, offset } => Shape::Plane { normal, offset: offset + normal.dot(shift) },
-            Shape::Box { centre, half, yaw } => Shape::Box { centre: centre + shift, half, yaw: yaw + spin },
-            Shape::Cylinder { centre, axis, radius, half_len } => {
-                Shape::Cylinder { centre: centre + shift, axis: rot_y(spin) * axis, radius, half_len }
-            }
-            Shape::Sphere { centre, radius } => Shape::Sphere { centre: centre + shift, radius },
+            Shape::Plane { normal, offset } => Shape::Plane {
+                normal,
+                offset: offset + normal.dot(shift),
+            },
+            Shape::Box { centre, half, yaw } => Shape::Box {
+                centre: centre + shift,
+                half,
+                yaw: yaw + spin,
+            },
+            Shape::Cylinder {
+                centre,
+                axis,
+                radius,
+                half_len,
+            } => Shape::Cylinder {
+                centre: centre + shift,
+                axis: rot_y(spin) * axis,
+                radius,
+                half_len,
+            },
+            Shape::Sphere { centre, radius } => Shape::Sphere {
+                centre: centre + shift,
+                radius,
+            },
         }
     }
 }
 
 #[allow(clippy::too_many_arguments)]
-fn intersect_box(o: &V3, d: &V3, centre: &V3, half: &V3, yaw: f64, tmin: f64, tmax: f64) -> Option<Hit> {
+fn intersect_box(
+    o: &V3,
+    d: &V3,
+    centre: &V3,
+    half: &V3,
+    yaw: f64,
+    tmin: f64,
+    tmax: f64,
+) -> Option<Hit> {
     // Work in the box's frame, where it is axis-aligned: slab test.
     let rt = rot_y(yaw).transpose();
     let lo_ = rt * (o - centre);
@@ -201,11 +247,23 @@ fn intersect_box(o: &V3, d: &V3, centre: &V3, half: &V3, yaw: f64, tmin: f64, tm
     };
     let mut n = V3::zeros();
     n[axis] = sign;
-    Some(Hit { t, normal: rot_y(yaw) * n })
+    Some(Hit {
+        t,
+        normal: rot_y(yaw) * n,
+    })
 }
 
 #[allow(clippy::too_many_arguments)]
-fn intersect_cylinder(o: &V3, d: &V3, centre: &V3, axis: &V3, r: f64, h: f64, tmin: f64, tmax: f64) -> Option<Hit> {
+fn intersect_cylinder(
+    o: &V3,
+    d: &V3,
+    centre: &V3,
+    axis: &V3,
+    r: f64,
+    h: f64,
+    tmin: f64,
+    tmax: f64,
+) -> Option<Hit> {
     let w = o - centre;
     let (wa, da) = (w.dot(axis), d.dot(axis));
     let wp = w - axis * wa;
@@ -254,51 +312,103 @@ mod tests {
 
     #[test]
     fn plane_hit_gives_z_for_camera_rays() {
-        let p = Shape::Plane { normal: V3::new(0.0, 0.0, -1.0), offset: -3.0 };
-        let h = p.intersect(&V3::zeros(), &V3::new(0.3, -0.2, 1.0), 0.0, f64::INFINITY).unwrap();
+        let p = Shape::Plane {
+            normal: V3::new(0.0, 0.0, -1.0),
+            offset: -3.0,
+        };
+        let h = p
+            .intersect(&V3::zeros(), &V3::new(0.3, -0.2, 1.0), 0.0, f64::INFINITY)
+            .unwrap();
         assert!(close(h.t, 3.0));
     }
 
     #[test]
     fn box_faces_and_yaw() {
-        let b = Shape::Box { centre: V3::new(0.0, 0.0, 2.0), half: V3::new(0.5, 0.5, 0.5), yaw: 0.0 };
-        let h = b.intersect(&V3::zeros(), &V3::new(0.0, 0.0, 1.0), 0.0, f64::INFINITY).unwrap();
+        let b = Shape::Box {
+            centre: V3::new(0.0, 0.0, 2.0),
+            half: V3::new(0.5, 0.5, 0.5),
+            yaw: 0.0,
+        };
+        let h = b
+            .intersect(&V3::zeros(), &V3::new(0.0, 0.0, 1.0), 0.0, f64::INFINITY)
+            .unwrap();
         assert!(close(h.t, 1.5) && h.normal == V3::new(0.0, 0.0, -1.0));
         // Turned 45°: the front edge now points at the camera, at z = 2 − 0.5·√2.
-        let b = Shape::Box { centre: V3::new(0.0, 0.0, 2.0), half: V3::new(0.5, 0.5, 0.5), yaw: std::f64::consts::FRAC_PI_4 };
-        let h = b.intersect(&V3::zeros(), &V3::new(1e-9, 0.0, 1.0), 0.0, f64::INFINITY).unwrap();
+        let b = Shape::Box {
+            centre: V3::new(0.0, 0.0, 2.0),
+            half: V3::new(0.5, 0.5, 0.5),
+            yaw: std::f64::consts::FRAC_PI_4,
+        };
+        let h = b
+            .intersect(&V3::zeros(), &V3::new(1e-9, 0.0, 1.0), 0.0, f64::INFINITY)
+            .unwrap();
         assert!((h.t - (2.0 - 0.5 * 2f64.sqrt())).abs() < 1e-6, "{}", h.t);
-        assert!(b.intersect(&V3::zeros(), &V3::new(0.0, 1.0, 1.0), 0.0, f64::INFINITY).is_none());
+        assert!(b
+            .intersect(&V3::zeros(), &V3::new(0.0, 1.0, 1.0), 0.0, f64::INFINITY)
+            .is_none());
         // Segment stops short of the box.
-        assert!(b.intersect(&V3::zeros(), &V3::new(0.0, 0.0, 1.0), 0.0, 1.0).is_none());
+        assert!(b
+            .intersect(&V3::zeros(), &V3::new(0.0, 0.0, 1.0), 0.0, 1.0)
+            .is_none());
     }
 
     #[test]
     fn cylinder_side_and_caps() {
-        let c = Shape::Cylinder { centre: V3::new(0.0, 0.0, 2.0), axis: V3::new(0.0, 1.0, 0.0), radius: 0.1, half_len: 0.5 };
-        let h = c.intersect(&V3::zeros(), &V3::new(0.0, 0.0, 1.0), 0.0, f64::INFINITY).unwrap();
+        let c = Shape::Cylinder {
+            centre: V3::new(0.0, 0.0, 2.0),
+            axis: V3::new(0.0, 1.0, 0.0),
+            radius: 0.1,
+            half_len: 0.5,
+        };
+        let h = c
+            .intersect(&V3::zeros(), &V3::new(0.0, 0.0, 1.0), 0.0, f64::INFINITY)
+            .unwrap();
         assert!(close(h.t, 1.9) && (h.normal - V3::new(0.0, 0.0, -1.0)).norm() < 1e-12);
         // From below along the axis: the bottom cap (y = +0.5 is "down").
-        let h = c.intersect(&V3::new(0.0, 2.0, 2.0), &V3::new(0.0, -1.0, 0.0), 0.0, f64::INFINITY).unwrap();
+        let h = c
+            .intersect(
+                &V3::new(0.0, 2.0, 2.0),
+                &V3::new(0.0, -1.0, 0.0),
+                0.0,
+                f64::INFINITY,
+            )
+            .unwrap();
         assert!(close(h.t, 1.5) && h.normal == V3::new(0.0, 1.0, 0.0));
         // Above the top: miss.
-        assert!(c.intersect(&V3::zeros(), &V3::new(0.0, -0.3, 1.0), 0.0, f64::INFINITY).is_none());
+        assert!(c
+            .intersect(&V3::zeros(), &V3::new(0.0, -0.3, 1.0), 0.0, f64::INFINITY)
+            .is_none());
         let bb = c.bounds().unwrap();
         assert!((bb.max - V3::new(0.1, 0.5, 2.1)).norm() < 1e-6);
     }
 
     #[test]
     fn sphere_near_and_inside() {
-        let s = Shape::Sphere { centre: V3::new(0.0, 0.0, 3.0), radius: 1.0 };
-        let h = s.intersect(&V3::zeros(), &V3::new(0.0, 0.0, 2.0), 0.0, f64::INFINITY).unwrap();
+        let s = Shape::Sphere {
+            centre: V3::new(0.0, 0.0, 3.0),
+            radius: 1.0,
+        };
+        let h = s
+            .intersect(&V3::zeros(), &V3::new(0.0, 0.0, 2.0), 0.0, f64::INFINITY)
+            .unwrap();
         assert!(close(h.t, 1.0));
-        let h = s.intersect(&V3::new(0.0, 0.0, 3.0), &V3::new(1.0, 0.0, 0.0), 0.0, f64::INFINITY).unwrap();
+        let h = s
+            .intersect(
+                &V3::new(0.0, 0.0, 3.0),
+                &V3::new(1.0, 0.0, 0.0),
+                0.0,
+                f64::INFINITY,
+            )
+            .unwrap();
         assert!(close(h.t, 1.0) && h.normal == V3::new(1.0, 0.0, 0.0));
     }
 
     #[test]
     fn aabb_rejects_and_keeps() {
-        let s = Shape::Sphere { centre: V3::new(0.0, 0.0, 3.0), radius: 1.0 };
+        let s = Shape::Sphere {
+            centre: V3::new(0.0, 0.0, 3.0),
+            radius: 1.0,
+        };
         let bb = s.bounds().unwrap();
         let d = V3::new(0.0, 0.0, 1.0);
         let inv = d.map(|x| 1.0 / x);

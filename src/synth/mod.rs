@@ -32,6 +32,10 @@ pub use write::{job_frame, write_job, Job};
 pub fn sensor_for(category: Category) -> SensorModel {
     match category {
         Category::Simple => SensorModel::kinect(),
-        Category::Complex => SensorModel { speckle_prob: 6e-4, speckle_cluster_max: 2, ..SensorModel::kinect() },
+        Category::Complex => SensorModel {
+            speckle_prob: 6e-4,
+            speckle_cluster_max: 2,
+            ..SensorModel::kinect()
+        },
     }
 }

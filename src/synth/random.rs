@@ -64,7 +64,10 @@ struct Floor {
 
 impl Floor {
     fn random(rng: &mut ChaCha8Rng) -> Self {
-        Floor { h: rng.random_range(0.7..1.3), pitch: rng.random_range(0.05..0.2) }
+        Floor {
+            h: rng.random_range(0.7..1.3),
+            pitch: rng.random_range(0.05..0.2),
+        }
     }
 
     /// The y of the floor under the point at depth `z`.
@@ -73,16 +76,30 @@ impl Floor {
     }
 
     fn push(&self, s: &mut Scene, rng: &mut ChaCha8Rng, parts: &mut Vec<String>) {
-        s.push("floor", floor(self.h, self.pitch), Material::matte(pale(rng)));
-        parts.push(format!("floor {:.2} m below (camera pitched {:.2} rad down)", self.h, self.pitch));
+        s.push(
+            "floor",
+            floor(self.h, self.pitch),
+            Material::matte(pale(rng)),
+        );
+        parts.push(format!(
+            "floor {:.2} m below (camera pitched {:.2} rad down)",
+            self.h, self.pitch
+        ));
     }
 }
 
 fn simple(rng: &mut ChaCha8Rng) -> Scene {
-    let wall = Wall { z: rng.random_range(2.2..4.2), yaw: rng.random_range(-0.15..0.15) };
+    let wall = Wall {
+        z: rng.random_range(2.2..4.2),
+        yaw: rng.random_range(-0.15..0.15),
+    };
     let mut parts = vec![format!("wall at {:.2} m (yaw {:.2})", wall.z, wall.yaw)];
     let mut s = Scene::new("");
-    s.push("wall", slanted_wall(wall.z, wall.yaw), Material::matte(pale(rng)));
+    s.push(
+        "wall",
+        slanted_wall(wall.z, wall.yaw),
+        Material::matte(pale(rng)),
+    );
     let ground = rng.random_bool(0.5).then(|| Floor::random(rng));
     if let Some(f) = ground {
         f.push(&mut s, rng, &mut parts);
@@ -93,7 +110,14 @@ fn simple(rng: &mut ChaCha8Rng) -> Scene {
     let mut shape = random_shape(rng, kind, x, z_front, ground);
     keep_before_wall(&mut shape, &wall);
     parts.push(format!("{kind} at {:.2} m", front_z(&shape)));
-    let o = s.push(kind, shape, Material { albedo: rng.random_range(0.4..0.95), ..Material::matte(vivid(rng)) });
+    let o = s.push(
+        kind,
+        shape,
+        Material {
+            albedo: rng.random_range(0.4..0.95),
+            ..Material::matte(vivid(rng))
+        },
+    );
     set_motion(rng, o);
     s.description = format!("simple: {}", parts.join(", "));
     s
@@ -107,34 +131,76 @@ fn complex(rng: &mut ChaCha8Rng) -> Scene {
     let variant = rng.random_range(0..3);
     let (wall, poster_wall) = match variant {
         0 => {
-            let w = Wall { z: rng.random_range(2.8..4.2), yaw: rng.random_range(-0.3..0.3) };
+            let w = Wall {
+                z: rng.random_range(2.8..4.2),
+                yaw: rng.random_range(-0.3..0.3),
+            };
             parts.push(format!("wall at {:.2} m (yaw {:.2})", w.z, w.yaw));
             (w, w)
         }
         1 => {
             let sign = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
-            let w = Wall { z: rng.random_range(3.2..4.0), yaw: sign * rng.random_range(0.45..0.75) };
-            parts.push(format!("slanted wall at {:.2} m (yaw {:.2}), far side beyond range", w.z, w.yaw));
+            let w = Wall {
+                z: rng.random_range(3.2..4.0),
+                yaw: sign * rng.random_range(0.45..0.75),
+            };
+            parts.push(format!(
+                "slanted wall at {:.2} m (yaw {:.2}), far side beyond range",
+                w.z, w.yaw
+            ));
             (w, w)
         }
         _ => {
-            let far = Wall { z: rng.random_range(4.8..6.0), yaw: rng.random_range(-0.1..0.1) };
-            let panel = Wall { z: rng.random_range(2.6..3.8), yaw: rng.random_range(-0.2..0.2) };
+            let far = Wall {
+                z: rng.random_range(4.8..6.0),
+                yaw: rng.random_range(-0.1..0.1),
+            };
+            let panel = Wall {
+                z: rng.random_range(2.6..3.8),
+                yaw: rng.random_range(-0.2..0.2),
+            };
             let side = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
             let reach = rng.random_range(0.0..0.8);
-            parts.push(format!("far wall at {:.2} m beyond range, partition at {:.2} m on the {} side", far.z, panel.z, if side > 0.0 { "right" } else { "left" }));
+            parts.push(format!(
+                "far wall at {:.2} m beyond range, partition at {:.2} m on the {} side",
+                far.z,
+                panel.z,
+                if side > 0.0 { "right" } else { "left" }
+            ));
             // The partition: a thin panel along `panel`, from the image edge to `reach` past the axis.
             let half_w = 2.0;
             let a = side * (half_w - reach);
             let centre = V3::new(a * panel.yaw.cos(), 0.0, panel.z + a * panel.yaw.sin());
-            s.push("partition", Shape::Box { centre, half: V3::new(half_w, 3.0, 0.03), yaw: -panel.yaw }, Material::matte(pale(rng)));
-            s.push("wall", slanted_wall(far.z, far.yaw), Material::matte(pale(rng)));
+            s.push(
+                "partition",
+                Shape::Box {
+                    centre,
+                    half: V3::new(half_w, 3.0, 0.03),
+                    yaw: -panel.yaw,
+                },
+                Material::matte(pale(rng)),
+            );
+            s.push(
+                "wall",
+                slanted_wall(far.z, far.yaw),
+                Material::matte(pale(rng)),
+            );
             // Objects and posters must stay before the nearer of the two.
-            (Wall { z: panel.z.min(far.z), yaw: 0.0 }, panel)
+            (
+                Wall {
+                    z: panel.z.min(far.z),
+                    yaw: 0.0,
+                },
+                panel,
+            )
         }
     };
     if variant != 2 {
-        s.push("wall", slanted_wall(wall.z, wall.yaw), Material::matte(pale(rng)));
+        s.push(
+            "wall",
+            slanted_wall(wall.z, wall.yaw),
+            Material::matte(pale(rng)),
+        );
     }
     let ground = rng.random_bool(0.7).then(|| Floor::random(rng));
     if let Some(f) = ground {
@@ -150,10 +216,21 @@ fn complex(rng: &mut ChaCha8Rng) -> Scene {
         let (sy, cy) = poster_wall.yaw.sin_cos();
         let normal = V3::new(sy, 0.0, -cy);
         let centre = V3::new(a * cy, y, poster_wall.z + a * sy) + normal * 0.006;
-        let shape = Shape::Box { centre, half: V3::new(hw, hh, 0.004), yaw: -poster_wall.yaw };
-        let m = if glossy { Material::glossy([0.7, 0.75, 0.8]) } else { Material::black() };
+        let shape = Shape::Box {
+            centre,
+            half: V3::new(hw, hh, 0.004),
+            yaw: -poster_wall.yaw,
+        };
+        let m = if glossy {
+            Material::glossy([0.7, 0.75, 0.8])
+        } else {
+            Material::black()
+        };
         s.push("poster", shape, m);
-        parts.push(format!("{} poster", if glossy { "glossy" } else { "black" }));
+        parts.push(format!(
+            "{} poster",
+            if glossy { "glossy" } else { "black" }
+        ));
     }
     let n = rng.random_range(3..=8);
     let cluster = rng.random_range(0.9..2.4);
@@ -162,7 +239,10 @@ fn complex(rng: &mut ChaCha8Rng) -> Scene {
         let kind = if k == 0 && rng.random_bool(0.6) {
             "rod"
         } else {
-            ["box", "box", "box", "cylinder", "cylinder", "sphere", "sphere", "rod", "rod", "rod"][rng.random_range(0..10)]
+            [
+                "box", "box", "box", "cylinder", "cylinder", "sphere", "sphere", "rod", "rod",
+                "rod",
+            ][rng.random_range(0..10)]
         };
         let z_front = (cluster + rng.random_range(-0.4..0.7f64)).clamp(0.6, 3.4);
         let x = if rng.random_bool(0.25) {
@@ -175,23 +255,46 @@ fn complex(rng: &mut ChaCha8Rng) -> Scene {
         keep_before_wall(&mut shape, &wall);
         let roll = rng.random::<f64>();
         let (material, tag) = if roll < 0.12 {
-            (Material { colour: dark(rng), ..Material::black() }, " (black)")
+            (
+                Material {
+                    colour: dark(rng),
+                    ..Material::black()
+                },
+                " (black)",
+            )
         } else if roll < 0.22 {
             (Material::glossy(vivid(rng)), " (glossy)")
         } else {
-            (Material { albedo: rng.random_range(0.35..0.95), ..Material::matte(vivid(rng)) }, "")
+            (
+                Material {
+                    albedo: rng.random_range(0.35..0.95),
+                    ..Material::matte(vivid(rng))
+                },
+                "",
+            )
         };
         objs.push(format!("{kind} at {:.2} m{tag}", front_z(&shape)));
         let o = s.push(kind, shape, material);
         set_motion(rng, o);
     }
-    s.description = format!("complex: {}; {} objects: {}", parts.join(", "), n, objs.join(", "));
+    s.description = format!(
+        "complex: {}; {} objects: {}",
+        parts.join(", "),
+        n,
+        objs.join(", ")
+    );
     s
 }
 
 /// A shape of `kind` whose nearest point is at about `z_front`, centred laterally at `x`; half of
 /// the time when there is a floor it stands on it (if it then still shows in the image).
-fn random_shape(rng: &mut ChaCha8Rng, kind: &str, x: f64, z_front: f64, ground: Option<Floor>) -> Shape {
+fn random_shape(
+    rng: &mut ChaCha8Rng,
+    kind: &str,
+    x: f64,
+    z_front: f64,
+    ground: Option<Floor>,
+) -> Shape {
     let wants_floor = rng.random_bool(0.5);
     // Floating: anywhere in the middle of the image, but above the floor.
     let free_y = |rng: &mut ChaCha8Rng, z: f64, hh: f64| {
@@ -206,20 +309,39 @@ fn random_shape(rng: &mut ChaCha8Rng, kind: &str, x: f64, z_front: f64, ground: 
     };
     match kind {
         "box" => {
-            let half = V3::new(rng.random_range(0.08..0.3), rng.random_range(0.08..0.35), rng.random_range(0.05..0.2));
+            let half = V3::new(
+                rng.random_range(0.08..0.3),
+                rng.random_range(0.08..0.35),
+                rng.random_range(0.05..0.2),
+            );
             let z = z_front + half.z;
             let y = on_floor(z, half.y).unwrap_or_else(|| free_y(rng, z, half.y));
-            Shape::Box { centre: V3::new(x, y, z), half, yaw: rng.random_range(-0.7..0.7) }
+            Shape::Box {
+                centre: V3::new(x, y, z),
+                half,
+                yaw: rng.random_range(-0.7..0.7),
+            }
         }
         "sphere" => {
             let r = rng.random_range(0.07..0.3);
             let y = on_floor(z_front + r, r).unwrap_or_else(|| free_y(rng, z_front + r, r));
-            Shape::Sphere { centre: V3::new(x, y, z_front + r), radius: r }
+            Shape::Sphere {
+                centre: V3::new(x, y, z_front + r),
+                radius: r,
+            }
         }
         "cylinder" | "rod" => {
             let rod = kind == "rod";
-            let r = if rod { rng.random_range(0.004..0.02) } else { rng.random_range(0.04..0.18) };
-            let half_len = if rod { rng.random_range(0.4..1.5) } else { rng.random_range(0.15..0.5) };
+            let r = if rod {
+                rng.random_range(0.004..0.02)
+            } else {
+                rng.random_range(0.04..0.18)
+            };
+            let half_len = if rod {
+                rng.random_range(0.4..1.5)
+            } else {
+                rng.random_range(0.15..0.5)
+            };
             let tilted = rng.random_bool(if rod { 0.4 } else { 0.3 });
             let axis = if tilted {
                 // Lean in the image plane, a little towards or away from the camera.
@@ -231,8 +353,18 @@ fn random_shape(rng: &mut ChaCha8Rng, kind: &str, x: f64, z_front: f64, ground: 
             };
             let dz = r + half_len * axis.z.abs();
             let hh = half_len * axis.y.abs() + r;
-            let y = if tilted { None } else { on_floor(z_front + dz, half_len) }.unwrap_or_else(|| free_y(rng, z_front + dz, hh));
-            Shape::Cylinder { centre: V3::new(x, y, z_front + dz), axis, radius: r, half_len }
+            let y = if tilted {
+                None
+            } else {
+                on_floor(z_front + dz, half_len)
+            }
+            .unwrap_or_else(|| free_y(rng, z_front + dz, hh));
+            Shape::Cylinder {
+                centre: V3::new(x, y, z_front + dz),
+                axis,
+                radius: r,
+                half_len,
+            }
         }
         _ => unreachable!("unknown kind {kind}"),
     }
@@ -254,20 +386,29 @@ fn front_z(shape: &Shape) -> f64 {
 
 /// A slow drift of a few mm to 1.5 cm per frame and a small turn, so frames differ.
 fn set_motion(rng: &mut ChaCha8Rng, o: &mut super::scene::Object) {
-    let dir = rot_y(rng.random_range(0.0..2.0 * PI)) * V3::new(1.0, rng.random_range(-0.5..0.5), 0.0);
+    let dir =
+        rot_y(rng.random_range(0.0..2.0 * PI)) * V3::new(1.0, rng.random_range(-0.5..0.5), 0.0);
     o.velocity = dir.normalize() * rng.random_range(0.002..0.015);
     o.spin = rng.random_range(-0.02..0.02);
 }
 
 fn vivid(rng: &mut ChaCha8Rng) -> [f64; 3] {
-    let mut c = [rng.random_range(0.1..0.9), rng.random_range(0.1..0.9), rng.random_range(0.1..0.9)];
+    let mut c = [
+        rng.random_range(0.1..0.9),
+        rng.random_range(0.1..0.9),
+        rng.random_range(0.1..0.9),
+    ];
     c[rng.random_range(0..3)] = rng.random_range(0.7..0.95);
     c
 }
 
 fn pale(rng: &mut ChaCha8Rng) -> [f64; 3] {
     let base = rng.random_range(0.6..0.85);
-    [base + rng.random_range(-0.05..0.05), base, base + rng.random_range(-0.08..0.03)]
+    [
+        base + rng.random_range(-0.05..0.05),
+        base,
+        base + rng.random_range(-0.08..0.03),
+    ]
 }
 
 fn dark(rng: &mut ChaCha8Rng) -> [f64; 3] {
@@ -287,16 +428,28 @@ mod tests {
                 assert_eq!(a, random_scene(cat, seed));
                 for o in &a.objects {
                     if let Some(b) = o.shape.bounds() {
-                        assert!(b.min.z > 0.45 && b.max.z < 4.6, "{seed} {cat:?} {} {:?}", o.kind, b);
+                        assert!(
+                            b.min.z > 0.45 && b.max.z < 4.6,
+                            "{seed} {cat:?} {} {:?}",
+                            o.kind,
+                            b
+                        );
                     }
                 }
-                let n = a.objects.iter().filter(|o| !matches!(o.kind, "wall" | "floor" | "partition" | "poster")).count();
+                let n = a
+                    .objects
+                    .iter()
+                    .filter(|o| !matches!(o.kind, "wall" | "floor" | "partition" | "poster"))
+                    .count();
                 match cat {
                     Category::Simple => assert_eq!(n, 1),
                     Category::Complex => assert!((3..=8).contains(&n)),
                 }
             }
         }
-        assert_ne!(random_scene(Category::Complex, 1), random_scene(Category::Complex, 2));
+        assert_ne!(
+            random_scene(Category::Complex, 1),
+            random_scene(Category::Complex, 2)
+        );
     }
 }

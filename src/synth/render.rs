@@ -76,7 +76,8 @@ impl<'a> Tracer<'a> {
     fn any(&self, o: &V3, d: &V3, tmin: f64, tmax: f64) -> bool {
         let inv = d.map(|x| 1.0 / x);
         self.shapes.iter().zip(&self.bounds).any(|(s, b)| {
-            b.map_or(true, |b| b.hit(o, &inv, tmin, tmax)) && s.intersect(o, d, tmin, tmax).is_some()
+            b.map_or(true, |b| b.hit(o, &inv, tmin, tmax))
+                && s.intersect(o, d, tmin, tmax).is_some()
         })
     }
 }
@@ -120,13 +121,16 @@ pub fn trace_ir(scene: &Scene, calib: &Calibration, sensor: &SensorModel) -> IrG
         for u in 0..WIDTH {
             let i = v * WIDTH + u;
             let d = pixel_ray(&calib.depth, u, v);
-            let Some((obj, hit)) = tracer.nearest(&V3::zeros(), &d, 0.0, f64::INFINITY) else { continue };
+            let Some((obj, hit)) = tracer.nearest(&V3::zeros(), &d, 0.0, f64::INFINITY) else {
+                continue;
+            };
             let p = d * hit.t; // d.z = 1, so t is the depth
             let m: &Material = &scene.objects[obj].material;
             g.object[i] = obj as u32;
             g.z[i] = hit.t;
             g.measurable[i] = sensor.measurable(hit.t, m.albedo, m.specular);
-            if let Some((occ, _)) = tracer.nearest(&projector, &(p - projector), 0.0, 1.0 - SEG_EPS) {
+            if let Some((occ, _)) = tracer.nearest(&projector, &(p - projector), 0.0, 1.0 - SEG_EPS)
+            {
                 g.occluder[i] = occ as u32;
             }
         }
@@ -149,7 +153,11 @@ pub fn ir_labels(g: &IrGeometry) -> Vec<u8> {
                     (true, false) => DETACHED,
                 };
             } else {
-                labels[i] = if g.object[i] != NONE && g.measurable[i] { VALID } else { OTHER };
+                labels[i] = if g.object[i] != NONE && g.measurable[i] {
+                    VALID
+                } else {
+                    OTHER
+                };
                 right_obj = g.object[i];
             }
         }
@@ -159,23 +167,49 @@ pub fn ir_labels(g: &IrGeometry) -> Vec<u8> {
 
 /// Renders one frame of `scene`. `seed` drives every random sensor effect, so the same inputs
 /// always give the same frame.
-pub fn render_frame(scene: &Scene, calib: &Calibration, sensor: &SensorModel, seed: u64) -> SynthFrame {
+pub fn render_frame(
+    scene: &Scene,
+    calib: &Calibration,
+    sensor: &SensorModel,
+    seed: u64,
+) -> SynthFrame {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let g = trace_ir(scene, calib, sensor);
     let mut labels = ir_labels(&g);
-    let mut raw: Vec<u16> =
-        labels.iter().zip(&g.z).map(|(&l, &z)| if l == VALID { sensor.raw_value(calib, z, &mut rng) } else { NO_DEPTH }).collect();
+    let mut raw: Vec<u16> = labels
+        .iter()
+        .zip(&g.z)
+        .map(|(&l, &z)| {
+            if l == VALID {
+                sensor.raw_value(calib, z, &mut rng)
+            } else {
+                NO_DEPTH
+            }
+        })
+        .collect();
     sensor::widen_shadows(sensor, &mut labels, &mut raw, &mut rng);
     sensor::mixed_pixels(sensor, &labels, &mut raw, &mut rng);
     sensor::speckle(sensor, &mut labels, &mut raw, &mut rng);
     sensor::spurious(sensor, calib, &g.z, &mut labels, &mut raw, &mut rng);
     let (rgb, rgb_labels, fg) = render_rgb(scene, calib, sensor, &labels, &mut rng);
-    SynthFrame { raw, rgb, ir_labels: labels, rgb_labels, fg }
+    SynthFrame {
+        raw,
+        rgb,
+        ir_labels: labels,
+        rgb_labels,
+        fg,
+    }
 }
 
 /// The RGB camera's image, labels and foreground mask, given the final IR-view labels. The mask
 /// takes no random draw, so adding it left the image and labels byte-identical.
-pub fn render_rgb(scene: &Scene, calib: &Calibration, sensor: &SensorModel, ir: &[u8], rng: &mut impl Rng) -> (Vec<u8>, Vec<u8>, Vec<u8>) {
+pub fn render_rgb(
+    scene: &Scene,
+    calib: &Calibration,
+    sensor: &SensorModel,
+    ir: &[u8],
+    rng: &mut impl Rng,
+) -> (Vec<u8>, Vec<u8>, Vec<u8>) {
     let tracer = Tracer::new(scene);
     let rt = calib.depth_to_rgb.rotation.transpose();
     let centre = -(rt * calib.depth_to_rgb.translation);
@@ -198,7 +232,17 @@ pub fn render_rgb(scene: &Scene, calib: &Calibration, sensor: &SensorModel, ir: 
                 fg[i] = 255;
             }
             let m = &scene.objects[obj].material;
-            shade(&mut rgb[3 * i..3 * i + 3], &p, &hit.normal, &d, &lamp, m, obj, sensor.rgb_noise_sigma, rng);
+            shade(
+                &mut rgb[3 * i..3 * i + 3],
+                &p,
+                &hit.normal,
+                &d,
+                &lamp,
+                m,
+                obj,
+                sensor.rgb_noise_sigma,
+                rng,
+            );
             if p.z <= 0.0 {
                 continue;
             }
@@ -224,14 +268,32 @@ pub fn render_rgb(scene: &Scene, calib: &Calibration, sensor: &SensorModel, ir: 
 /// Colour of one RGB pixel: material colour × (ambient + Lambert) × a little 3-D texture, plus
 /// noise, gamma-encoded.
 #[allow(clippy::too_many_arguments)]
-fn shade(out: &mut [u8], p: &V3, normal: &V3, d: &V3, lamp: &V3, m: &Material, obj: usize, noise: f64, rng: &mut impl Rng) {
-    let n = if normal.dot(d) > 0.0 { -normal } else { *normal };
+fn shade(
+    out: &mut [u8],
+    p: &V3,
+    normal: &V3,
+    d: &V3,
+    lamp: &V3,
+    m: &Material,
+    obj: usize,
+    noise: f64,
+    rng: &mut impl Rng,
+) {
+    let n = if normal.dot(d) > 0.0 {
+        -normal
+    } else {
+        *normal
+    };
     let lambert = n.dot(&(lamp - p).normalize()).max(0.0);
     let tex = 1.0 + 0.12 * (texture(p, obj, 0.02) - 0.5) + 0.08 * (texture(p, obj, 0.1) - 0.5);
     let light = (0.25 + 0.75 * lambert) * tex;
     for (o, colour) in out.iter_mut().zip(m.colour) {
         let lin = (colour * light).clamp(0.0, 1.0);
-        let n = if noise > 0.0 { sensor::gauss(rng) * noise } else { 0.0 };
+        let n = if noise > 0.0 {
+            sensor::gauss(rng) * noise
+        } else {
+            0.0
+        };
         *o = (255.0 * lin.powf(1.0 / 2.2) + n).round().clamp(0.0, 255.0) as u8;
     }
 }

@@ -16,17 +16,29 @@ pub struct Material {
 impl Material {
     /// A matte surface of the given colour that the sensor measures well.
     pub fn matte(colour: [f64; 3]) -> Self {
-        Material { albedo: 0.8, specular: false, colour }
+        Material {
+            albedo: 0.8,
+            specular: false,
+            colour,
+        }
     }
 
     /// A black (low-IR-albedo) surface: never any depth, dark in the RGB image.
     pub fn black() -> Self {
-        Material { albedo: 0.02, specular: false, colour: [0.04, 0.04, 0.045] }
+        Material {
+            albedo: 0.02,
+            specular: false,
+            colour: [0.04, 0.04, 0.045],
+        }
     }
 
     /// A mirror-like surface of the given colour: never any depth.
     pub fn glossy(colour: [f64; 3]) -> Self {
-        Material { albedo: 0.9, specular: true, colour }
+        Material {
+            albedo: 0.9,
+            specular: true,
+            colour,
+        }
     }
 }
 
@@ -58,21 +70,30 @@ pub struct Scene {
 
 /// A wall facing the camera: the plane `z = z_wall`.
 pub fn wall(z_wall: f64) -> Shape {
-    Shape::Plane { normal: V3::new(0.0, 0.0, -1.0), offset: -z_wall }
+    Shape::Plane {
+        normal: V3::new(0.0, 0.0, -1.0),
+        offset: -z_wall,
+    }
 }
 
 /// A wall through `(0, 0, z_wall)` turned by `yaw` about the vertical axis (positive: its right
 /// side recedes).
 pub fn slanted_wall(z_wall: f64, yaw: f64) -> Shape {
     let normal = V3::new(yaw.sin(), 0.0, -yaw.cos());
-    Shape::Plane { normal, offset: normal.dot(&V3::new(0.0, 0.0, z_wall)) }
+    Shape::Plane {
+        normal,
+        offset: normal.dot(&V3::new(0.0, 0.0, z_wall)),
+    }
 }
 
 /// A floor `h` metres below the camera, seen by a camera pitched `pitch` radians down: in the
 /// camera frame (y down) the floor's up vector is `(0, −cos pitch, −sin pitch)`, so the optical
 /// axis meets the floor `h / sin(pitch)` metres away.
 pub fn floor(h: f64, pitch: f64) -> Shape {
-    Shape::Plane { normal: V3::new(0.0, -pitch.cos(), -pitch.sin()), offset: -h }
+    Shape::Plane {
+        normal: V3::new(0.0, -pitch.cos(), -pitch.sin()),
+        offset: -h,
+    }
 }
 
 impl Object {
@@ -87,13 +108,23 @@ impl Object {
 impl Scene {
     /// An empty scene with a description.
     pub fn new(description: impl Into<String>) -> Self {
-        Scene { objects: Vec::new(), description: description.into() }
+        Scene {
+            objects: Vec::new(),
+            description: description.into(),
+        }
     }
 
     /// Adds a static object and returns it for further tweaks (motion).
     pub fn push(&mut self, kind: &'static str, shape: Shape, material: Material) -> &mut Object {
         let id = self.objects.len() as u32;
-        self.objects.push(Object { id, kind, shape, material, velocity: V3::zeros(), spin: 0.0 });
+        self.objects.push(Object {
+            id,
+            kind,
+            shape,
+            material,
+            velocity: V3::zeros(),
+            spin: 0.0,
+        });
         self.objects.last_mut().expect("just pushed")
     }
 
@@ -102,11 +133,17 @@ impl Scene {
     /// projector sees a side face: the attached shadow is then exactly `f·b·(1/z_box − 1/z_wall)`
     /// pixels wide and the RGB alignment strip `f_rgb·|t|·(1/z_box − 1/z_wall)`.
     pub fn box_before_wall(z_box: f64, z_wall: f64) -> Scene {
-        let mut s = Scene::new(format!("box 0.4x0.5x0.2 m, front face at {z_box} m, before a wall at {z_wall} m"));
+        let mut s = Scene::new(format!(
+            "box 0.4x0.5x0.2 m, front face at {z_box} m, before a wall at {z_wall} m"
+        ));
         s.push("wall", wall(z_wall), Material::matte([0.8, 0.78, 0.7]));
         s.push(
             "box",
-            Shape::Box { centre: V3::new(0.0, 0.0, z_box + BOX_HALF.z), half: BOX_HALF, yaw: 0.0 },
+            Shape::Box {
+                centre: V3::new(0.0, 0.0, z_box + BOX_HALF.z),
+                half: BOX_HALF,
+                yaw: 0.0,
+            },
             Material::matte([0.7, 0.2, 0.15]),
         );
         s
@@ -115,11 +152,18 @@ impl Scene {
     /// A vertical rod (cylinder of `radius`) with its axis at `(x, ·, z_rod)`, long enough to cross
     /// the whole image, before a wall at `z_wall`.
     pub fn rod_before_wall(x: f64, z_rod: f64, radius: f64, z_wall: f64) -> Scene {
-        let mut s = Scene::new(format!("vertical rod r={radius} m at x={x} m, z={z_rod} m, before a wall at {z_wall} m"));
+        let mut s = Scene::new(format!(
+            "vertical rod r={radius} m at x={x} m, z={z_rod} m, before a wall at {z_wall} m"
+        ));
         s.push("wall", wall(z_wall), Material::matte([0.8, 0.78, 0.7]));
         s.push(
             "rod",
-            Shape::Cylinder { centre: V3::new(x, 0.0, z_rod), axis: V3::new(0.0, 1.0, 0.0), radius, half_len: 3.0 },
+            Shape::Cylinder {
+                centre: V3::new(x, 0.0, z_rod),
+                axis: V3::new(0.0, 1.0, 0.0),
+                radius,
+                half_len: 3.0,
+            },
             Material::matte([0.6, 0.6, 0.65]),
         );
         s
@@ -131,9 +175,15 @@ impl Scene {
         let objects = self
             .objects
             .iter()
-            .map(|o| Object { shape: o.shape.moved(&(o.velocity * k), o.spin * k), ..o.clone() })
+            .map(|o| Object {
+                shape: o.shape.moved(&(o.velocity * k), o.spin * k),
+                ..o.clone()
+            })
             .collect();
-        Scene { objects, description: self.description.clone() }
+        Scene {
+            objects,
+            description: self.description.clone(),
+        }
     }
 }
 

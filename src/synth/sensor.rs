@@ -94,8 +94,14 @@ impl SensorModel {
     /// The raw value the sensor reports for depth `z`: model value plus noise, rounded and
     /// clamped to the valid range `[0, 2046]`.
     pub fn raw_value(&self, calib: &Calibration, z: f64, rng: &mut impl Rng) -> u16 {
-        let noise = if self.noise_sigma_raw > 0.0 { gauss(rng) * self.noise_sigma_raw } else { 0.0 };
-        (calib.raw_from_depth(z) + noise).round().clamp(0.0, f64::from(NO_DEPTH - 1)) as u16
+        let noise = if self.noise_sigma_raw > 0.0 {
+            gauss(rng) * self.noise_sigma_raw
+        } else {
+            0.0
+        };
+        (calib.raw_from_depth(z) + noise)
+            .round()
+            .clamp(0.0, f64::from(NO_DEPTH - 1)) as u16
     }
 }
 
@@ -125,7 +131,12 @@ fn widen_amount(max: u32, rng: &mut impl Rng) -> usize {
 /// Widens every run of projector-shadow pixels in each row by a random 0–`widen_left_max` valid
 /// pixels on its left and 0–`widen_right_max` on its right; swallowed pixels become holes with
 /// the label of the run end they join.
-pub(crate) fn widen_shadows(m: &SensorModel, labels: &mut [u8], raw: &mut [u16], rng: &mut impl Rng) {
+pub(crate) fn widen_shadows(
+    m: &SensorModel,
+    labels: &mut [u8],
+    raw: &mut [u16],
+    rng: &mut impl Rng,
+) {
     if m.widen_left_max == 0 && m.widen_right_max == 0 && m.widen_burst_prob <= 0.0 {
         return;
     }
@@ -143,7 +154,8 @@ pub(crate) fn widen_shadows(m: &SensorModel, labels: &mut [u8], raw: &mut [u16],
                 u += 1;
             }
             let end = u; // exclusive
-            let burst = usize::from(m.widen_burst_prob > 0.0 && rng.random_bool(m.widen_burst_prob));
+            let burst =
+                usize::from(m.widen_burst_prob > 0.0 && rng.random_bool(m.widen_burst_prob));
             let left = widen_amount(m.widen_left_max, rng) + burst;
             let right = widen_amount(m.widen_right_max, rng) + burst;
             let (ll, rl) = (labels[row + start], labels[row + end - 1]);
@@ -175,7 +187,13 @@ pub(crate) fn mixed_pixels(m: &SensorModel, labels: &[u8], raw: &mut [u16], rng:
     let snapshot = raw.to_vec(); // decide on the unmixed map so edges do not cascade
     for i in 0..raw.len() {
         let (u, v) = (i % WIDTH, i / WIDTH);
-        for j in [(u + 1 < WIDTH).then_some(i + 1), (v + 1 < HEIGHT).then_some(i + WIDTH)].into_iter().flatten() {
+        for j in [
+            (u + 1 < WIDTH).then_some(i + 1),
+            (v + 1 < HEIGHT).then_some(i + WIDTH),
+        ]
+        .into_iter()
+        .flatten()
+        {
             if labels[i] != VALID || labels[j] != VALID {
                 continue;
             }
@@ -203,12 +221,20 @@ pub(crate) fn speckle(m: &SensorModel, labels: &mut [u8], raw: &mut [u16], rng: 
         count += 1;
     }
     for _ in 0..count {
-        let (cu, cv) = (rng.random_range(0..WIDTH) as i64, rng.random_range(0..HEIGHT) as i64);
+        let (cu, cv) = (
+            rng.random_range(0..WIDTH) as i64,
+            rng.random_range(0..HEIGHT) as i64,
+        );
         let r = rng.random_range(0..=m.speckle_cluster_max) as i64;
         for dv in -r..=r {
             for du in -r..=r {
                 let (u, v) = (cu + du, cv + dv);
-                if du * du + dv * dv > r * r || u < 0 || v < 0 || u >= WIDTH as i64 || v >= HEIGHT as i64 {
+                if du * du + dv * dv > r * r
+                    || u < 0
+                    || v < 0
+                    || u >= WIDTH as i64
+                    || v >= HEIGHT as i64
+                {
                     continue;
                 }
                 let i = v as usize * WIDTH + u as usize;
@@ -223,12 +249,22 @@ pub(crate) fn speckle(m: &SensorModel, labels: &mut [u8], raw: &mut [u16], rng: 
 
 /// Rare spurious measurements inside projector shadows: the pixel reports its own surface's depth
 /// (plus noise) and is then VALID. `z` is the per-pixel depth of the surface the camera sees.
-pub(crate) fn spurious(m: &SensorModel, calib: &Calibration, z: &[f64], labels: &mut [u8], raw: &mut [u16], rng: &mut impl Rng) {
+pub(crate) fn spurious(
+    m: &SensorModel,
+    calib: &Calibration,
+    z: &[f64],
+    labels: &mut [u8],
+    raw: &mut [u16],
+    rng: &mut impl Rng,
+) {
     if m.spurious_prob <= 0.0 {
         return;
     }
     for i in 0..labels.len() {
-        if (labels[i] == ATTACHED || labels[i] == DETACHED) && z[i].is_finite() && rng.random_bool(m.spurious_prob) {
+        if (labels[i] == ATTACHED || labels[i] == DETACHED)
+            && z[i].is_finite()
+            && rng.random_bool(m.spurious_prob)
+        {
             labels[i] = VALID;
             raw[i] = m.raw_value(calib, z[i], rng);
         }
@@ -249,7 +285,9 @@ mod tests {
         let (mut sum, mut max) = (0usize, 0usize);
         for _ in 0..n {
             let burst = usize::from(rng.random_bool(m.widen_burst_prob));
-            let w = widen_amount(m.widen_left_max, &mut rng) + widen_amount(m.widen_right_max, &mut rng) + 2 * burst;
+            let w = widen_amount(m.widen_left_max, &mut rng)
+                + widen_amount(m.widen_right_max, &mut rng)
+                + 2 * burst;
             sum += w;
             max = max.max(w);
         }
@@ -260,7 +298,12 @@ mod tests {
 
     #[test]
     fn widening_swallows_only_valid_pixels_and_keeps_labels() {
-        let m = SensorModel { widen_left_max: 3, widen_right_max: 2, widen_burst_prob: 1.0, ..SensorModel::ideal() };
+        let m = SensorModel {
+            widen_left_max: 3,
+            widen_right_max: 2,
+            widen_burst_prob: 1.0,
+            ..SensorModel::ideal()
+        };
         let mut labels = vec![VALID; WIDTH * HEIGHT];
         let mut raw = vec![700u16; WIDTH * HEIGHT];
         // Row 0: OTHER at 8, ATTACHED at 10..20, VALID elsewhere.
@@ -278,7 +321,10 @@ mod tests {
         assert_eq!(labels[8], OTHER, "never overwrite another hole");
         let right = labels[20..].iter().take_while(|&&l| l == ATTACHED).count();
         assert!((1..=3).contains(&right), "{right}");
-        assert!(labels.iter().zip(&raw).all(|(&l, &r)| (l == VALID) == (r != NO_DEPTH)));
+        assert!(labels
+            .iter()
+            .zip(&raw)
+            .all(|(&l, &r)| (l == VALID) == (r != NO_DEPTH)));
     }
 
     #[test]

@@ -11,14 +11,23 @@ fn row(labels: &[u8], v: usize) -> &[u8] {
 
 /// Positions of `code` in a row.
 fn cols(r: &[u8], code: u8) -> Vec<usize> {
-    r.iter().enumerate().filter(|(_, &l)| l == code).map(|(u, _)| u).collect()
+    r.iter()
+        .enumerate()
+        .filter(|(_, &l)| l == code)
+        .map(|(u, _)| u)
+        .collect()
 }
 
 #[test]
 fn box_before_wall_attached_width_matches_hand_computation() {
     let c = Calibration::nyu_default();
     let (zf, zb) = (1.0, 3.0);
-    let f = render_frame(&Scene::box_before_wall(zf, zb), &c, &SensorModel::ideal(), 0);
+    let f = render_frame(
+        &Scene::box_before_wall(zf, zb),
+        &c,
+        &SensorModel::ideal(),
+        0,
+    );
     let (fx, cx, b) = (c.depth.fx, c.depth.cx, c.raw.baseline_m);
     // SPEC §1: w = f·b·(1/z_f − 1/z_b) ≈ 29.13 px.
     let w = fx * b * (1.0 / zf - 1.0 / zb);
@@ -28,18 +37,33 @@ fn box_before_wall_attached_width_matches_hand_computation() {
     let u_l = fx * x_l / zf + cx;
     let u_s = fx * (b + (x_l - b) * zb / zf) / zb + cx;
     assert!((u_l - u_s - w).abs() < 1e-9, "hand formulas agree");
-    let (raw_box, raw_wall) = (c.raw_from_depth(zf).round() as u16, c.raw_from_depth(zb).round() as u16);
+    let (raw_box, raw_wall) = (
+        c.raw_from_depth(zf).round() as u16,
+        c.raw_from_depth(zb).round() as u16,
+    );
     let half_rows = c.depth.fy * scene::BOX_HALF.y / zf;
-    let rows = (c.depth.cy - half_rows).ceil() as usize + 1..=(c.depth.cy + half_rows).floor() as usize - 1;
+    let rows = (c.depth.cy - half_rows).ceil() as usize + 1
+        ..=(c.depth.cy + half_rows).floor() as usize - 1;
     assert!(rows.clone().count() > 250);
     for v in rows {
         let r = row(&f.ir_labels, v);
         let att = cols(r, ATTACHED);
-        assert!((att.len() as f64 - w).abs() < 1.0, "row {v}: {} attached px, expected {w:.2}", att.len());
+        assert!(
+            (att.len() as f64 - w).abs() < 1.0,
+            "row {v}: {} attached px, expected {w:.2}",
+            att.len()
+        );
         assert_eq!(*att.first().unwrap(), u_s.ceil() as usize, "row {v}");
         assert_eq!(*att.last().unwrap(), u_l.ceil() as usize - 1, "row {v}");
-        assert_eq!(att.last().unwrap() - att.first().unwrap() + 1, att.len(), "row {v}: one run");
-        assert!(cols(r, DETACHED).is_empty() && cols(r, OTHER).is_empty(), "row {v}");
+        assert_eq!(
+            att.last().unwrap() - att.first().unwrap() + 1,
+            att.len(),
+            "row {v}: one run"
+        );
+        assert!(
+            cols(r, DETACHED).is_empty() && cols(r, OTHER).is_empty(),
+            "row {v}"
+        );
         let raw = &f.raw[v * WIDTH..(v + 1) * WIDTH];
         assert_eq!(raw[att[0] - 1], raw_wall);
         assert_eq!(raw[att[0] + att.len()], raw_box);
@@ -47,7 +71,10 @@ fn box_before_wall_attached_width_matches_hand_computation() {
     }
     // Outside the shadow everything is measured: only the shadow is a hole.
     let holes = f.raw.iter().filter(|&&r| r == NO_DEPTH).count();
-    assert_eq!(holes, f.ir_labels.iter().filter(|&&l| l == ATTACHED).count());
+    assert_eq!(
+        holes,
+        f.ir_labels.iter().filter(|&&l| l == ATTACHED).count()
+    );
 }
 
 #[test]
@@ -57,27 +84,54 @@ fn thin_rod_casts_a_detached_shadow_where_predicted() {
     let (x0, zf, zb, r) = (0.0, 1.0, 3.0, 0.01);
     // SPEC §1: detached iff 2r < b·(1 − z_f/z_b): 0.02 < 0.05.
     assert!(2.0 * r < b * (1.0 - zf / zb));
-    let f = render_frame(&Scene::rod_before_wall(x0, zf, r, zb), &c, &SensorModel::ideal(), 0);
+    let f = render_frame(
+        &Scene::rod_before_wall(x0, zf, r, zb),
+        &c,
+        &SensorModel::ideal(),
+        0,
+    );
     // Projector rays past the rod's edges x0 ± r (tangent points, to < 0.1 mm) meet the wall at
     // x = b + (x0 ± r − b)·z_b/z_f; the camera sees the rod over fx·(x0 ± r)/z_f + cx.
     let wall_u = |x: f64| fx * x / zb + cx;
-    let (s0, s1) = (wall_u(b + (x0 - r - b) * zb / zf), wall_u(b + (x0 + r - b) * zb / zf));
+    let (s0, s1) = (
+        wall_u(b + (x0 - r - b) * zb / zf),
+        wall_u(b + (x0 + r - b) * zb / zf),
+    );
     let (r0, r1) = (fx * (x0 - r) / zf + cx, fx * (x0 + r) / zf + cx);
     for v in (0..480).step_by(7) {
         let l = row(&f.ir_labels, v);
         let det = cols(l, DETACHED);
-        assert!(cols(l, ATTACHED).is_empty() && cols(l, OTHER).is_empty(), "row {v}");
-        assert!((det[0] as f64 - s0).abs() <= 1.0 && (*det.last().unwrap() as f64 - s1).abs() <= 1.0, "row {v}: {det:?} vs {s0:.1}..{s1:.1}");
+        assert!(
+            cols(l, ATTACHED).is_empty() && cols(l, OTHER).is_empty(),
+            "row {v}"
+        );
+        assert!(
+            (det[0] as f64 - s0).abs() <= 1.0 && (*det.last().unwrap() as f64 - s1).abs() <= 1.0,
+            "row {v}: {det:?} vs {s0:.1}..{s1:.1}"
+        );
         assert_eq!(det.last().unwrap() - det[0] + 1, det.len());
         // Lit wall between shadow and rod: the w_b of eqs. 4–5.
         let gap = (*det.last().unwrap() + 1..r0.ceil() as usize).count() as f64;
-        assert!((gap - (r0 - s1)).abs() <= 1.5, "row {v}: gap {gap} vs {:.1}", r0 - s1);
+        assert!(
+            (gap - (r0 - s1)).abs() <= 1.5,
+            "row {v}: gap {gap} vs {:.1}",
+            r0 - s1
+        );
         let raw_rod = c.raw_from_depth(zf - r).round() as u16;
-        assert_eq!(f.raw[v * WIDTH + ((r0 + r1) / 2.0).round() as usize], raw_rod, "row {v}: rod front");
+        assert_eq!(
+            f.raw[v * WIDTH + ((r0 + r1) / 2.0).round() as usize],
+            raw_rod,
+            "row {v}: rod front"
+        );
     }
     // A rod too thick for a gap (2r = 8 cm > 5 cm) leaves an attached shadow of f·b·(1/z_f − 1/z_b).
     let r = 0.04;
-    let f = render_frame(&Scene::rod_before_wall(x0, zf, r, zb), &c, &SensorModel::ideal(), 0);
+    let f = render_frame(
+        &Scene::rod_before_wall(x0, zf, r, zb),
+        &c,
+        &SensorModel::ideal(),
+        0,
+    );
     let w = fx * b * (1.0 / zf - 1.0 / zb); // both silhouettes are the rod's sides, at about z_f
     for v in (0..480).step_by(11) {
         let l = row(&f.ir_labels, v);
@@ -91,11 +145,16 @@ fn thin_rod_casts_a_detached_shadow_where_predicted() {
 fn rgb_view_has_alignment_strip_right_of_box() {
     let c = Calibration::nyu_default();
     let (zf, zb) = (1.0, 3.0);
-    let f = render_frame(&Scene::box_before_wall(zf, zb), &c, &SensorModel::ideal(), 0);
+    let f = render_frame(
+        &Scene::box_before_wall(zf, zb),
+        &c,
+        &SensorModel::ideal(),
+        0,
+    );
     let k = c.rgb;
     let tx = -c.depth_to_rgb.translation.x; // RGB camera at x = +0.025 m in the IR frame
-    // The RGB camera sees the box's right edge x_R at u1; the IR camera's ray past that edge meets
-    // the wall at x_R·z_b/z_f, which the RGB camera sees at u2: the strip [u1, u2) is ALIGNMENT.
+                                            // The RGB camera sees the box's right edge x_R at u1; the IR camera's ray past that edge meets
+                                            // the wall at x_R·z_b/z_f, which the RGB camera sees at u2: the strip [u1, u2) is ALIGNMENT.
     let x_r = scene::BOX_HALF.x;
     let u1 = k.fx * (x_r - tx) / zf + k.cx;
     let u2 = k.fx * (x_r * zb / zf - tx) / zb + k.cx;
@@ -109,19 +168,38 @@ fn rgb_view_has_alignment_strip_right_of_box() {
     for v in 150..350 {
         let l = row(&f.rgb_labels, v);
         let al = cols(l, ALIGNMENT);
-        assert!((al.len() as f64 - w).abs() < 1.0, "row {v}: {} alignment px vs {w:.2}", al.len());
+        assert!(
+            (al.len() as f64 - w).abs() < 1.0,
+            "row {v}: {} alignment px vs {w:.2}",
+            al.len()
+        );
         assert_eq!(al[0], u1.ceil() as usize, "row {v}");
         assert_eq!(al.last().unwrap() - al[0] + 1, al.len());
         let att = cols(l, ATTACHED);
-        assert!((att.len() as f64 - att_w).abs() <= 1.5, "row {v}: {} attached vs {att_w:.1}", att.len());
+        assert!(
+            (att.len() as f64 - att_w).abs() <= 1.5,
+            "row {v}: {} attached vs {att_w:.1}",
+            att.len()
+        );
         assert!(cols(l, DETACHED).is_empty(), "row {v}");
         // The RGB camera sees wider than the IR camera: OTHER only beyond the IR field of view,
         // whose edges x/z = −cx/fx and (640 − cx)/fx land on the wall at these RGB columns.
         let edge = |x: f64| k.fx * (x * zb - tx) / zb + k.cx;
-        let (e0, e1) = (edge(-c.depth.cx / c.depth.fx), edge((640.0 - c.depth.cx) / c.depth.fx));
+        let (e0, e1) = (
+            edge(-c.depth.cx / c.depth.fx),
+            edge((640.0 - c.depth.cx) / c.depth.fx),
+        );
         let other = cols(l, OTHER);
-        assert!(other.iter().all(|&u| (u as f64) < e0 + 1.0 || (u as f64) > e1 - 1.0), "row {v}: {e0:.1} {e1:.1} {other:?}");
-        assert!(other.len() as f64 >= e0.floor() + (639.0 - e1.ceil()), "row {v}");
+        assert!(
+            other
+                .iter()
+                .all(|&u| (u as f64) < e0 + 1.0 || (u as f64) > e1 - 1.0),
+            "row {v}: {e0:.1} {e1:.1} {other:?}"
+        );
+        assert!(
+            other.len() as f64 >= e0.floor() + (639.0 - e1.ceil()),
+            "row {v}"
+        );
     }
 }
 
@@ -130,15 +208,31 @@ fn shadows_on_black_or_out_of_range_surfaces_are_other() {
     let c = Calibration::nyu_default();
     // A black poster on the wall where the box's shadow falls (wall x ∈ [−0.75, −0.6] at 3 m).
     let mut s = Scene::box_before_wall(1.0, 3.0);
-    s.push("poster", Shape::Box { centre: V3::new(-0.7, 0.0, 2.99), half: V3::new(0.3, 0.6, 0.005), yaw: 0.0 }, Material::black());
+    s.push(
+        "poster",
+        Shape::Box {
+            centre: V3::new(-0.7, 0.0, 2.99),
+            half: V3::new(0.3, 0.6, 0.005),
+            yaw: 0.0,
+        },
+        Material::black(),
+    );
     let f = render_frame(&s, &c, &SensorModel::ideal(), 0);
     let r = row(&f.ir_labels, 240);
     assert!(cols(r, ATTACHED).is_empty() && cols(r, DETACHED).is_empty());
     assert!(r[168..197].iter().all(|&l| l == OTHER));
     // Wall beyond the 4.5 m range: its shadow is no different from the rest of it.
-    let f = render_frame(&Scene::box_before_wall(1.0, 5.0), &c, &SensorModel::ideal(), 0);
+    let f = render_frame(
+        &Scene::box_before_wall(1.0, 5.0),
+        &c,
+        &SensorModel::ideal(),
+        0,
+    );
     assert!(f.ir_labels.iter().all(|&l| l == VALID || l == OTHER));
-    assert!(f.rgb_labels.iter().all(|&l| l == VALID || l == OTHER), "alignment on an unmeasurable wall is OTHER");
+    assert!(
+        f.rgb_labels.iter().all(|&l| l == VALID || l == OTHER),
+        "alignment on an unmeasurable wall is OTHER"
+    );
     // A glossy box: no depth on it, and it still casts a projector shadow on the wall.
     let mut s = Scene::box_before_wall(1.0, 3.0);
     s.objects[1].material = Material::glossy([0.5, 0.5, 0.5]);
@@ -154,17 +248,26 @@ fn kinect_sensor_widens_shadows_by_about_two_px() {
     let c = Calibration::nyu_default();
     let s = Scene::box_before_wall(1.0, 3.0);
     let ideal = render_frame(&s, &c, &SensorModel::ideal(), 0);
-    let m = SensorModel { speckle_prob: 0.0, spurious_prob: 0.0, mixed_prob: 0.0, ..SensorModel::kinect() };
+    let m = SensorModel {
+        speckle_prob: 0.0,
+        spurious_prob: 0.0,
+        mixed_prob: 0.0,
+        ..SensorModel::kinect()
+    };
     let (mut sum, mut n, mut max) = (0.0, 0.0, 0usize);
     for seed in 0..3 {
         let f = render_frame(&s, &c, &m, seed);
         for v in 100..380 {
-            let extra = cols(row(&f.ir_labels, v), ATTACHED).len() - cols(row(&ideal.ir_labels, v), ATTACHED).len();
+            let extra = cols(row(&f.ir_labels, v), ATTACHED).len()
+                - cols(row(&ideal.ir_labels, v), ATTACHED).len();
             sum += extra as f64;
             n += 1.0;
             max = max.max(extra);
             let raw = &f.raw[v * WIDTH..(v + 1) * WIDTH];
-            assert!(row(&f.ir_labels, v).iter().zip(raw).all(|(&l, &r)| (l == VALID) == (r != NO_DEPTH)));
+            assert!(row(&f.ir_labels, v)
+                .iter()
+                .zip(raw)
+                .all(|(&l, &r)| (l == VALID) == (r != NO_DEPTH)));
         }
     }
     let mean = sum / n;
@@ -176,8 +279,19 @@ fn kinect_sensor_widens_shadows_by_about_two_px() {
 fn random_scenes_have_consistent_labels_and_are_deterministic() {
     let c = Calibration::nyu_default();
     let mut shadows = 0;
-    for (cat, seed) in [(Category::Simple, 3), (Category::Complex, 4), (Category::Complex, 11)] {
-        let job = Job { scene: random_scene(cat, seed), category: cat, seed, frames: 2, sensor: sensor_for(cat), calib: c };
+    for (cat, seed) in [
+        (Category::Simple, 3),
+        (Category::Complex, 4),
+        (Category::Complex, 11),
+    ] {
+        let job = Job {
+            scene: random_scene(cat, seed),
+            category: cat,
+            seed,
+            frames: 2,
+            sensor: sensor_for(cat),
+            calib: c,
+        };
         let f = job_frame(&job, 1);
         assert_eq!(f, job_frame(&job, 1), "deterministic");
         assert_ne!(f.raw, job_frame(&job, 0).raw, "frames differ");
@@ -186,7 +300,11 @@ fn random_scenes_have_consistent_labels_and_are_deterministic() {
             assert!(l != ALIGNMENT && l <= OTHER);
         }
         assert!(f.rgb_labels.iter().all(|&l| l <= OTHER));
-        shadows += f.ir_labels.iter().filter(|&&l| l == ATTACHED || l == DETACHED).count();
+        shadows += f
+            .ir_labels
+            .iter()
+            .filter(|&&l| l == ATTACHED || l == DETACHED)
+            .count();
     }
     assert!(shadows > 1000, "{shadows}");
 }
@@ -196,13 +314,27 @@ fn random_scenes_have_consistent_labels_and_are_deterministic() {
 #[ignore]
 fn render_time() {
     let c = Calibration::nyu_default();
-    for (cat, seed) in [(Category::Simple, 1), (Category::Complex, 2), (Category::Complex, 5)] {
+    for (cat, seed) in [
+        (Category::Simple, 1),
+        (Category::Complex, 2),
+        (Category::Complex, 5),
+    ] {
         let scene = random_scene(cat, seed);
         let t = std::time::Instant::now();
         let n = 5;
         for k in 0..n {
-            std::hint::black_box(render_frame(&scene.at_frame(k), &c, &sensor_for(cat), k as u64));
+            std::hint::black_box(render_frame(
+                &scene.at_frame(k),
+                &c,
+                &sensor_for(cat),
+                k as u64,
+            ));
         }
-        eprintln!("{} ({} objects): {:.0} ms/frame", cat.as_str(), scene.objects.len(), t.elapsed().as_secs_f64() * 1e3 / n as f64);
+        eprintln!(
+            "{} ({} objects): {:.0} ms/frame",
+            cat.as_str(),
+            scene.objects.len(),
+            t.elapsed().as_secs_f64() * 1e3 / n as f64
+        );
     }
 }

@@ -4,7 +4,6 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-
 use super::random::Category;
 use super::render::{render_frame, SynthFrame};
 use super::scene::Scene;
@@ -40,7 +39,11 @@ pub struct Job {
 pub fn check_free(dir: &Path) -> Result<()> {
     match std::fs::read_dir(dir) {
         Ok(mut entries) => match entries.next() {
-            Some(_) => Err(Error::input(dir, "", "already exists and is not empty; refusing to overwrite it (pick a new folder)")),
+            Some(_) => Err(Error::input(
+                dir,
+                "",
+                "already exists and is not empty; refusing to overwrite it (pick a new folder)",
+            )),
             None => Ok(()),
         },
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
@@ -57,7 +60,10 @@ pub fn prepare_dir(dir: &Path) -> Result<()> {
 
 /// The seed of frame `i`'s sensor noise: a SplitMix64 step of the recording seed and the index.
 fn frame_seed(seed: u64, i: usize) -> u64 {
-    let mut z = seed ^ (i as u64).wrapping_add(1).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    let mut z = seed
+        ^ (i as u64)
+            .wrapping_add(1)
+            .wrapping_mul(0x9e37_79b9_7f4a_7c15);
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
     z ^ (z >> 31)
@@ -65,18 +71,31 @@ fn frame_seed(seed: u64, i: usize) -> u64 {
 
 /// Renders frame `i` of a job (pure).
 pub fn job_frame(job: &Job, i: usize) -> SynthFrame {
-    render_frame(&job.scene.at_frame(i), &job.calib, &job.sensor, frame_seed(job.seed, i))
+    render_frame(
+        &job.scene.at_frame(i),
+        &job.calib,
+        &job.sensor,
+        frame_seed(job.seed, i),
+    )
 }
 
 /// Simulates `job` into `rec_dir` (recording) and `gt_dir` (labels `<i:06>.depth.png`,
 /// `<i:06>.rgb.png`, foreground masks `<i:06>.fg.png`, `meta.toml`); both must be empty or absent.
 /// Calls `tick` after each frame. Returns the pixel count per label class over both views.
-pub fn write_job(job: &Job, rec_dir: &Path, gt_dir: &Path, tick: &mut dyn FnMut()) -> Result<[u64; CLASSES]> {
+pub fn write_job(
+    job: &Job,
+    rec_dir: &Path,
+    gt_dir: &Path,
+    tick: &mut dyn FnMut(),
+) -> Result<[u64; CLASSES]> {
     check_free(rec_dir)?;
     check_free(gt_dir)?;
     prepare_dir(rec_dir)?;
     prepare_dir(gt_dir)?;
-    write_text(&rec_dir.join("calibration.toml"), &job.calib.to_toml_string())?;
+    write_text(
+        &rec_dir.join("calibration.toml"),
+        &job.calib.to_toml_string(),
+    )?;
     write_text(&gt_dir.join("meta.toml"), &meta_toml(job))?;
     let mut index = String::new();
     let mut totals = [0u64; CLASSES];
@@ -94,7 +113,11 @@ pub fn write_job(job: &Job, rec_dir: &Path, gt_dir: &Path, tick: &mut dyn FnMut(
         // SPEC §6 ground truth; label_path's naming gives <i:06>.fg.png.
         write_label_png(&label_path(gt_dir, i, "fg"), &f.fg)?;
         let _ = writeln!(index, "{d}\n{r}");
-        for (t, h) in totals.iter_mut().zip(labels::histogram(&f.ir_labels).iter().zip(labels::histogram(&f.rgb_labels))) {
+        for (t, h) in totals.iter_mut().zip(
+            labels::histogram(&f.ir_labels)
+                .iter()
+                .zip(labels::histogram(&f.rgb_labels)),
+        ) {
             *t += h.0 + h.1;
         }
         tick();
@@ -113,7 +136,10 @@ fn meta_toml(job: &Job) -> String {
     t.insert("seed".into(), toml::Value::Integer(job.seed as i64));
     t.insert("frames".into(), toml::Value::Integer(job.frames as i64));
     t.insert("ideal_sensor".into(), (*s == SensorModel::ideal()).into());
-    t.insert("z_range_m".into(), toml::Value::Array(vec![s.z_min.into(), s.z_max.into()]));
+    t.insert(
+        "z_range_m".into(),
+        toml::Value::Array(vec![s.z_min.into(), s.z_max.into()]),
+    );
     t.insert("noise_sigma_raw".into(), s.noise_sigma_raw.into());
     t.insert("objects".into(), (job.scene.objects.len() as i64).into());
     toml::to_string(&t).expect("a flat table always serialises")
@@ -123,8 +149,8 @@ fn write_text(path: &Path, text: &str) -> Result<()> {
     std::fs::write(path, text).map_err(|e| Error::io(path, "writing", e))
 }
 
-pub use crate::sink::labels::write_label_png;
 use crate::sink::labels::label_path;
+pub use crate::sink::labels::write_label_png;
 
 #[cfg(test)]
 mod tests {
@@ -155,7 +181,9 @@ mod tests {
         r.read_depth(1, &mut raw).unwrap();
         assert_eq!(raw, job_frame(&job, 1).raw);
         assert_eq!(r.frames()[1].rgb.as_ref().unwrap().device_ts, 2_104_000);
-        let png = image::open(gt.join("000001.depth.png")).unwrap().into_luma8();
+        let png = image::open(gt.join("000001.depth.png"))
+            .unwrap()
+            .into_luma8();
         assert_eq!(png.as_raw(), &job_frame(&job, 1).ir_labels);
         let fg = image::open(gt.join("000001.fg.png")).unwrap().into_luma8();
         assert_eq!(fg.as_raw(), &job_frame(&job, 1).fg);
@@ -163,11 +191,16 @@ mod tests {
         let meta = std::fs::read_to_string(gt.join("meta.toml")).unwrap();
         assert!(meta.contains("category = \"simple\""), "{meta}");
         // A second run into the same folders must fail without touching them.
-        let e = write_job(&job, &rec, &gt, &mut || {}).unwrap_err().to_string();
+        let e = write_job(&job, &rec, &gt, &mut || {})
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("not empty") && e.contains("rec"), "{e}");
         assert!(!e.contains('\n'));
         let file = tmp.path().join("f");
         std::fs::write(&file, "x").unwrap();
-        assert!(prepare_dir(&file).unwrap_err().to_string().contains("not a folder"));
+        assert!(prepare_dir(&file)
+            .unwrap_err()
+            .to_string()
+            .contains("not a folder"));
     }
 }

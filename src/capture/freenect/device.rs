@@ -28,7 +28,9 @@ impl std::str::FromStr for Selector {
         if s.is_empty() {
             Ok(Selector::Index(0))
         } else if s.len() <= 3 && s.bytes().all(|b| b.is_ascii_digit()) {
-            Ok(Selector::Index(s.parse().map_err(|_| Error::Usage(format!("Kinect index {s:?} is not a number")))?))
+            Ok(Selector::Index(s.parse().map_err(|_| {
+                Error::Usage(format!("Kinect index {s:?} is not a number"))
+            })?))
         } else if s.bytes().all(|b| b.is_ascii_alphanumeric()) {
             Ok(Selector::Serial(s.to_string()))
         } else {
@@ -80,7 +82,10 @@ impl Context {
     /// Camera serials of the Kinects on the bus, in bus order; empty when the library cannot list
     /// them (fakenect).
     pub fn serials(&self) -> Vec<String> {
-        let (Some(list), Some(free)) = (self.lib.api.list_device_attributes, self.lib.api.free_device_attributes) else {
+        let (Some(list), Some(free)) = (
+            self.lib.api.list_device_attributes,
+            self.lib.api.free_device_attributes,
+        ) else {
             return Vec::new();
         };
         let mut head = ptr::null_mut();
@@ -94,7 +99,11 @@ impl Context {
             let (serial, next) = unsafe { ((*node).camera_serial, (*node).next) };
             if !serial.is_null() {
                 // SAFETY: see above.
-                out.push(unsafe { CStr::from_ptr(serial) }.to_string_lossy().into_owned());
+                out.push(
+                    unsafe { CStr::from_ptr(serial) }
+                        .to_string_lossy()
+                        .into_owned(),
+                );
             }
             node = next;
         }
@@ -113,29 +122,47 @@ impl Context {
         let rc = match which {
             Selector::Index(i) => {
                 if *i >= n {
-                    return Err(Error::Usage(format!("{what}: not found ({n} Kinect(s) connected)")));
+                    return Err(Error::Usage(format!(
+                        "{what}: not found ({n} Kinect(s) connected)"
+                    )));
                 }
                 // SAFETY: `self.ctx` is live; `dev` is a valid out-pointer.
                 unsafe { (self.lib.api.open_device)(self.ctx, &mut dev, *i as c_int) }
             }
             Selector::Serial(s) => {
-                let c = CString::new(s.as_str()).map_err(|_| Error::Usage(format!("{what}: a serial cannot contain NUL")))?;
+                let c = CString::new(s.as_str())
+                    .map_err(|_| Error::Usage(format!("{what}: a serial cannot contain NUL")))?;
                 // SAFETY: as above, and `c` is a NUL-terminated string alive across the call.
-                unsafe { (self.lib.api.open_device_by_camera_serial)(self.ctx, &mut dev, c.as_ptr()) }
+                unsafe {
+                    (self.lib.api.open_device_by_camera_serial)(self.ctx, &mut dev, c.as_ptr())
+                }
             }
         };
         if rc < 0 || dev.is_null() {
             let known = self.serials();
-            let hint = if known.is_empty() { String::new() } else { format!(" (connected: {})", known.join(", ")) };
-            return Err(Error::Usage(format!("{what}: cannot open it (libfreenect code {rc}){hint}")));
+            let hint = if known.is_empty() {
+                String::new()
+            } else {
+                format!(" (connected: {})", known.join(", "))
+            };
+            return Err(Error::Usage(format!(
+                "{what}: cannot open it (libfreenect code {rc}){hint}"
+            )));
         }
-        Ok(Device { ctx: self, dev, what })
+        Ok(Device {
+            ctx: self,
+            dev,
+            what,
+        })
     }
 
     /// Handles pending USB events (and runs frame callbacks) for at most `timeout`. Returns
     /// libfreenect's code: negative on error, and for good at the end of a fakenect recording.
     pub fn process_events(&self, timeout: Duration) -> c_int {
-        let mut tv = sys::Timeval { tv_sec: timeout.as_secs() as _, tv_usec: timeout.subsec_micros() as _ };
+        let mut tv = sys::Timeval {
+            tv_sec: timeout.as_secs() as _,
+            tv_usec: timeout.subsec_micros() as _,
+        };
         // SAFETY: `self.ctx` is live; `tv` outlives the call.
         unsafe { (self.lib.api.process_events_timeout)(self.ctx, &mut tv) }
     }
@@ -165,11 +192,17 @@ impl Device<'_> {
         let api = self.api();
         // SAFETY: plain value-returning lookups of libfreenect's mode tables.
         let (depth, video) = unsafe {
-            ((api.find_depth_mode)(sys::RESOLUTION_MEDIUM, sys::DEPTH_11BIT), (api.find_video_mode)(sys::RESOLUTION_MEDIUM, sys::VIDEO_RGB))
+            (
+                (api.find_depth_mode)(sys::RESOLUTION_MEDIUM, sys::DEPTH_11BIT),
+                (api.find_video_mode)(sys::RESOLUTION_MEDIUM, sys::VIDEO_RGB),
+            )
         };
         let expect = |m: &sys::FrameMode, bytes: i32, name: &str| {
             if m.is_valid == 0 || m.width != 640 || m.height != 480 || m.bytes != bytes {
-                Err(Error::Usage(format!("{}: libfreenect has no 640x480 {name} mode (got {}x{}, {} bytes)", self.what, m.width, m.height, m.bytes)))
+                Err(Error::Usage(format!(
+                    "{}: libfreenect has no 640x480 {name} mode (got {}x{}, {} bytes)",
+                    self.what, m.width, m.height, m.bytes
+                )))
             } else {
                 Ok(())
             }
@@ -193,7 +226,12 @@ impl Device<'_> {
     ///
     /// # Safety
     /// `user` must stay valid, and be what the callbacks expect, until this device is dropped.
-    pub unsafe fn set_callbacks(&self, user: *mut c_void, depth: sys::FrameCallback, video: sys::FrameCallback) {
+    pub unsafe fn set_callbacks(
+        &self,
+        user: *mut c_void,
+        depth: sys::FrameCallback,
+        video: sys::FrameCallback,
+    ) {
         let api = self.api();
         // SAFETY: `self.dev` is open; the caller vouches for `user`.
         unsafe {

@@ -7,7 +7,9 @@
 use std::ffi::{c_char, c_int, c_void};
 use std::sync::OnceLock;
 
-use super::sys::{Context, Device, DeviceAttributes, FrameCallback, FrameMode, Registration, Timeval};
+use super::sys::{
+    Context, Device, DeviceAttributes, FrameCallback, FrameMode, Registration, Timeval,
+};
 use crate::error::{Error, Result};
 
 /// The library file loaded when `UMBRA_LIBFREENECT` is not set.
@@ -29,7 +31,8 @@ pub struct Api {
     /// `freenect_open_device`.
     pub open_device: unsafe extern "C" fn(*mut Context, *mut *mut Device, c_int) -> c_int,
     /// `freenect_open_device_by_camera_serial`.
-    pub open_device_by_camera_serial: unsafe extern "C" fn(*mut Context, *mut *mut Device, *const c_char) -> c_int,
+    pub open_device_by_camera_serial:
+        unsafe extern "C" fn(*mut Context, *mut *mut Device, *const c_char) -> c_int,
     /// `freenect_close_device`.
     pub close_device: unsafe extern "C" fn(*mut Device) -> c_int,
     /// `freenect_find_depth_mode`.
@@ -59,7 +62,8 @@ pub struct Api {
     /// `freenect_process_events_timeout`.
     pub process_events_timeout: unsafe extern "C" fn(*mut Context, *mut Timeval) -> c_int,
     /// `freenect_list_device_attributes`.
-    pub list_device_attributes: Option<unsafe extern "C" fn(*mut Context, *mut *mut DeviceAttributes) -> c_int>,
+    pub list_device_attributes:
+        Option<unsafe extern "C" fn(*mut Context, *mut *mut DeviceAttributes) -> c_int>,
     /// `freenect_free_device_attributes`.
     pub free_device_attributes: Option<unsafe extern "C" fn(*mut DeviceAttributes)>,
     /// `freenect_copy_registration`.
@@ -84,7 +88,10 @@ static LIBRARY: OnceLock<std::result::Result<Library, String>> = OnceLock::new()
 /// The process-wide libfreenect, loaded on first use. Fails with one line naming the Debian
 /// package when the library is missing.
 pub fn load() -> Result<&'static Library> {
-    LIBRARY.get_or_init(open).as_ref().map_err(|msg| Error::Usage(msg.clone()))
+    LIBRARY
+        .get_or_init(open)
+        .as_ref()
+        .map_err(|msg| Error::Usage(msg.clone()))
 }
 
 fn open() -> std::result::Result<Library, String> {
@@ -96,41 +103,67 @@ fn open() -> std::result::Result<Library, String> {
         if why.contains("No such file") {
             format!("{name} not found: {INSTALL}")
         } else {
-            format!("{name} cannot be loaded ({}): {INSTALL}", why.split_whitespace().collect::<Vec<_>>().join(" "))
+            format!(
+                "{name} cannot be loaded ({}): {INSTALL}",
+                why.split_whitespace().collect::<Vec<_>>().join(" ")
+            )
         }
     })?;
     let need = |sym: &str| format!("{name}: symbol {sym} missing: not libfreenect 0.5? {INSTALL}");
     // SAFETY: each symbol is read as the type of the `Api` field it fills, which is its
     // signature in libfreenect.h 0.5, and `lib` stays loaded for good.
-    let api = unsafe { Api {
-        init: sym(&lib, "freenect_init").ok_or_else(|| need("freenect_init"))?,
-        shutdown: sym(&lib, "freenect_shutdown").ok_or_else(|| need("freenect_shutdown"))?,
-        select_subdevices: sym(&lib, "freenect_select_subdevices").ok_or_else(|| need("freenect_select_subdevices"))?,
-        num_devices: sym(&lib, "freenect_num_devices").ok_or_else(|| need("freenect_num_devices"))?,
-        open_device: sym(&lib, "freenect_open_device").ok_or_else(|| need("freenect_open_device"))?,
-        open_device_by_camera_serial: sym(&lib, "freenect_open_device_by_camera_serial").ok_or_else(|| need("freenect_open_device_by_camera_serial"))?,
-        close_device: sym(&lib, "freenect_close_device").ok_or_else(|| need("freenect_close_device"))?,
-        find_depth_mode: sym(&lib, "freenect_find_depth_mode").ok_or_else(|| need("freenect_find_depth_mode"))?,
-        find_video_mode: sym(&lib, "freenect_find_video_mode").ok_or_else(|| need("freenect_find_video_mode"))?,
-        set_depth_mode: sym(&lib, "freenect_set_depth_mode").ok_or_else(|| need("freenect_set_depth_mode"))?,
-        set_video_mode: sym(&lib, "freenect_set_video_mode").ok_or_else(|| need("freenect_set_video_mode"))?,
-        set_depth_callback: sym(&lib, "freenect_set_depth_callback").ok_or_else(|| need("freenect_set_depth_callback"))?,
-        set_video_callback: sym(&lib, "freenect_set_video_callback").ok_or_else(|| need("freenect_set_video_callback"))?,
-        set_user: sym(&lib, "freenect_set_user").ok_or_else(|| need("freenect_set_user"))?,
-        get_user: sym(&lib, "freenect_get_user").ok_or_else(|| need("freenect_get_user"))?,
-        start_depth: sym(&lib, "freenect_start_depth").ok_or_else(|| need("freenect_start_depth"))?,
-        start_video: sym(&lib, "freenect_start_video").ok_or_else(|| need("freenect_start_video"))?,
-        stop_depth: sym(&lib, "freenect_stop_depth").ok_or_else(|| need("freenect_stop_depth"))?,
-        stop_video: sym(&lib, "freenect_stop_video").ok_or_else(|| need("freenect_stop_video"))?,
-        process_events_timeout: sym(&lib, "freenect_process_events_timeout").ok_or_else(|| need("freenect_process_events_timeout"))?,
-        list_device_attributes: sym(&lib, "freenect_list_device_attributes"),
-        free_device_attributes: sym(&lib, "freenect_free_device_attributes"),
-        copy_registration: sym(&lib, "freenect_copy_registration"),
-        destroy_registration: sym(&lib, "freenect_destroy_registration"),
-    } };
+    let api = unsafe {
+        Api {
+            init: sym(&lib, "freenect_init").ok_or_else(|| need("freenect_init"))?,
+            shutdown: sym(&lib, "freenect_shutdown").ok_or_else(|| need("freenect_shutdown"))?,
+            select_subdevices: sym(&lib, "freenect_select_subdevices")
+                .ok_or_else(|| need("freenect_select_subdevices"))?,
+            num_devices: sym(&lib, "freenect_num_devices")
+                .ok_or_else(|| need("freenect_num_devices"))?,
+            open_device: sym(&lib, "freenect_open_device")
+                .ok_or_else(|| need("freenect_open_device"))?,
+            open_device_by_camera_serial: sym(&lib, "freenect_open_device_by_camera_serial")
+                .ok_or_else(|| need("freenect_open_device_by_camera_serial"))?,
+            close_device: sym(&lib, "freenect_close_device")
+                .ok_or_else(|| need("freenect_close_device"))?,
+            find_depth_mode: sym(&lib, "freenect_find_depth_mode")
+                .ok_or_else(|| need("freenect_find_depth_mode"))?,
+            find_video_mode: sym(&lib, "freenect_find_video_mode")
+                .ok_or_else(|| need("freenect_find_video_mode"))?,
+            set_depth_mode: sym(&lib, "freenect_set_depth_mode")
+                .ok_or_else(|| need("freenect_set_depth_mode"))?,
+            set_video_mode: sym(&lib, "freenect_set_video_mode")
+                .ok_or_else(|| need("freenect_set_video_mode"))?,
+            set_depth_callback: sym(&lib, "freenect_set_depth_callback")
+                .ok_or_else(|| need("freenect_set_depth_callback"))?,
+            set_video_callback: sym(&lib, "freenect_set_video_callback")
+                .ok_or_else(|| need("freenect_set_video_callback"))?,
+            set_user: sym(&lib, "freenect_set_user").ok_or_else(|| need("freenect_set_user"))?,
+            get_user: sym(&lib, "freenect_get_user").ok_or_else(|| need("freenect_get_user"))?,
+            start_depth: sym(&lib, "freenect_start_depth")
+                .ok_or_else(|| need("freenect_start_depth"))?,
+            start_video: sym(&lib, "freenect_start_video")
+                .ok_or_else(|| need("freenect_start_video"))?,
+            stop_depth: sym(&lib, "freenect_stop_depth")
+                .ok_or_else(|| need("freenect_stop_depth"))?,
+            stop_video: sym(&lib, "freenect_stop_video")
+                .ok_or_else(|| need("freenect_stop_video"))?,
+            process_events_timeout: sym(&lib, "freenect_process_events_timeout")
+                .ok_or_else(|| need("freenect_process_events_timeout"))?,
+            list_device_attributes: sym(&lib, "freenect_list_device_attributes"),
+            free_device_attributes: sym(&lib, "freenect_free_device_attributes"),
+            copy_registration: sym(&lib, "freenect_copy_registration"),
+            destroy_registration: sym(&lib, "freenect_destroy_registration"),
+        }
+    };
     // SAFETY: only the symbol's presence is checked; it is never called.
     let fakenect = unsafe { lib.get::<unsafe extern "C" fn()>(b"sleep_highres\0") }.is_ok();
-    Ok(Library { api, name, fakenect, _lib: lib })
+    Ok(Library {
+        api,
+        name,
+        fakenect,
+        _lib: lib,
+    })
 }
 
 /// Reads symbol `name` as a `T`, or `None` when the library lacks it.

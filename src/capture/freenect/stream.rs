@@ -78,12 +78,27 @@ impl<T: Pod> Lane<T> {
         buf.resize(self.len, T::default());
         // SAFETY: the caller guarantees `src` has the bytes; `buf` holds exactly `len` elements
         // of a type valid for any bytes, and the two cannot overlap (`buf` is ours).
-        unsafe { std::ptr::copy_nonoverlapping(src, buf.as_mut_ptr().cast::<u8>(), self.len * size_of::<T>()) };
-        let unix_time = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0.0, |d| d.as_secs_f64());
-        let frame = Captured { ts, unix_time, received: Instant::now(), dropped_before: self.pending_drops.swap(0, Ordering::Relaxed), data: buf };
+        unsafe {
+            std::ptr::copy_nonoverlapping(
+                src,
+                buf.as_mut_ptr().cast::<u8>(),
+                self.len * size_of::<T>(),
+            )
+        };
+        let unix_time = SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .map_or(0.0, |d| d.as_secs_f64());
+        let frame = Captured {
+            ts,
+            unix_time,
+            received: Instant::now(),
+            dropped_before: self.pending_drops.swap(0, Ordering::Relaxed),
+            data: buf,
+        };
         if let Err(e) = self.full.try_send(frame) {
             let frame = e.into_inner();
-            self.pending_drops.fetch_add(1 + frame.dropped_before, Ordering::Relaxed);
+            self.pending_drops
+                .fetch_add(1 + frame.dropped_before, Ordering::Relaxed);
             self.dropped.fetch_add(1, Ordering::Relaxed);
             let _ = self.refill.try_send(frame.data);
         }
@@ -120,17 +135,31 @@ pub struct Stream {
 pub type DropCounters = (Arc<AtomicU64>, Arc<AtomicU64>);
 
 /// A stream's callback side, its consumer's two channel ends and its drop counter.
-type LaneParts<T> = (Lane<T>, Receiver<Captured<T>>, Sender<Vec<T>>, Arc<AtomicU64>);
+type LaneParts<T> = (
+    Lane<T>,
+    Receiver<Captured<T>>,
+    Sender<Vec<T>>,
+    Arc<AtomicU64>,
+);
 
 /// A pool of `pool` buffers of `len` elements and the channels it circulates on.
 fn lane<T: Pod>(pool: usize, len: usize) -> LaneParts<T> {
     let (free_tx, free_rx) = bounded(pool);
     for _ in 0..pool {
-        free_tx.send(vec![T::default(); len]).expect("pool channel has room for the whole pool");
+        free_tx
+            .send(vec![T::default(); len])
+            .expect("pool channel has room for the whole pool");
     }
     let (full_tx, full_rx) = bounded(pool);
     let dropped = Arc::new(AtomicU64::new(0));
-    let lane = Lane { free: free_rx, refill: free_tx.clone(), full: full_tx, len, pending_drops: AtomicU64::new(0), dropped: dropped.clone() };
+    let lane = Lane {
+        free: free_rx,
+        refill: free_tx.clone(),
+        full: full_tx,
+        len,
+        pending_drops: AtomicU64::new(0),
+        dropped: dropped.clone(),
+    };
     (lane, full_rx, free_tx, dropped)
 }
 
@@ -153,7 +182,9 @@ impl Stream {
                 .name("freenect".into())
                 .spawn(move || {
                     // Setup errors go back to `start`; later ones reach the consumer via `failure`.
-                    if let Err(e) = capture(lib, &which, shared, [&stop, &halt], &ready_tx, &failure) {
+                    if let Err(e) =
+                        capture(lib, &which, shared, [&stop, &halt], &ready_tx, &failure)
+                    {
                         let _ = ready_tx.send(Err(e));
                     }
                 })
@@ -167,20 +198,39 @@ impl Stream {
             }
             Err(_) => {
                 let _ = thread.join();
-                return Err(Error::Usage("the capture thread ended before the device was ready".into()));
+                return Err(Error::Usage(
+                    "the capture thread ended before the device was ready".into(),
+                ));
             }
         };
-        Ok(Stream { depth: depth_rx, depth_free, video: video_rx, video_free, info, depth_dropped, video_dropped, halt, failure, thread: Some(thread) })
+        Ok(Stream {
+            depth: depth_rx,
+            depth_free,
+            video: video_rx,
+            video_free,
+            info,
+            depth_dropped,
+            video_dropped,
+            halt,
+            failure,
+            thread: Some(thread),
+        })
     }
 
     /// The device error that ended the capture thread, if any (once).
     pub fn take_failure(&self) -> Option<Error> {
-        self.failure.lock().unwrap_or_else(|p| p.into_inner()).take()
+        self.failure
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .take()
     }
 
     /// Depth and RGB frames dropped so far because every buffer was in use.
     pub fn dropped(&self) -> (u64, u64) {
-        (self.depth_dropped.load(Ordering::Relaxed), self.video_dropped.load(Ordering::Relaxed))
+        (
+            self.depth_dropped.load(Ordering::Relaxed),
+            self.video_dropped.load(Ordering::Relaxed),
+        )
     }
 
     /// The depth and RGB drop counters themselves, readable after the stream is gone.
@@ -200,7 +250,14 @@ impl Drop for Stream {
 
 /// The capture thread's body: every libfreenect call happens here, on one thread. Errors before
 /// streaming are returned; once `ready` has been told, they are stored in `failure` instead.
-fn capture(lib: &'static Library, which: &Selector, shared: Arc<Shared>, stop: [&AtomicBool; 2], ready: &Sender<Result<DeviceInfo>>, failure: &Mutex<Option<Error>>) -> Result<()> {
+fn capture(
+    lib: &'static Library,
+    which: &Selector,
+    shared: Arc<Shared>,
+    stop: [&AtomicBool; 2],
+    ready: &Sender<Result<DeviceInfo>>,
+    failure: &Mutex<Option<Error>>,
+) -> Result<()> {
     let _span = info_span!("capture", device = %which).entered();
     let ctx = Context::init(lib)?;
     let serials = ctx.serials();
@@ -209,7 +266,10 @@ fn capture(lib: &'static Library, which: &Selector, shared: Arc<Shared>, stop: [
     // SAFETY: `shared` outlives `dev` (declared before it in this function, and `dev` is
     // dropped, closing the device, before it returns); the callbacks read it as `Shared`.
     unsafe { dev.set_callbacks(Arc::as_ptr(&shared) as *mut c_void, on_depth, on_video) };
-    let info = DeviceInfo { zero_plane: dev.zero_plane(), serials };
+    let info = DeviceInfo {
+        zero_plane: dev.zero_plane(),
+        serials,
+    };
     dev.start()?;
     info!(library = %lib.name, fakenect = lib.fakenect, "streaming 640x480 11-bit depth and RGB");
     let _ = ready.send(Ok(info));
@@ -228,7 +288,9 @@ fn capture(lib: &'static Library, which: &Selector, shared: Arc<Shared>, stop: [
             break Ok(());
         }
         warn!(code = rc, "USB event processing failed");
-        break Err(Error::Usage(format!("{which}: USB event processing failed (libfreenect code {rc})")));
+        break Err(Error::Usage(format!(
+            "{which}: USB event processing failed (libfreenect code {rc})"
+        )));
     };
     dev.stop();
     drop(dev);
@@ -257,7 +319,9 @@ unsafe extern "C" fn on_depth(dev: *mut sys::Device, data: *mut c_void, ts: u32)
     // A panic must not unwind into C; there is nothing to recover, the frame is lost.
     let _ = std::panic::catch_unwind(|| {
         // SAFETY: libfreenect calls this only for the device `capture` set up.
-        let Some(shared) = (unsafe { shared_of(dev) }) else { return };
+        let Some(shared) = (unsafe { shared_of(dev) }) else {
+            return;
+        };
         if data.is_null() {
             return;
         }
@@ -271,7 +335,9 @@ unsafe extern "C" fn on_video(dev: *mut sys::Device, data: *mut c_void, ts: u32)
     // A panic must not unwind into C; there is nothing to recover, the frame is lost.
     let _ = std::panic::catch_unwind(|| {
         // SAFETY: libfreenect calls this only for the device `capture` set up.
-        let Some(shared) = (unsafe { shared_of(dev) }) else { return };
+        let Some(shared) = (unsafe { shared_of(dev) }) else {
+            return;
+        };
         if data.is_null() {
             return;
         }

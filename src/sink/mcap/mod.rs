@@ -127,13 +127,27 @@ impl McapSink {
     /// first frame arrives; the first segment is named after that moment.
     pub fn create(dir: &Path, opts: McapOptions) -> Result<Self> {
         if dir.exists() && !dir.is_dir() {
-            return Err(Error::input(dir, "", "exists and is not a folder: MCAP output needs a folder for its segments"));
+            return Err(Error::input(
+                dir,
+                "",
+                "exists and is not a folder: MCAP output needs a folder for its segments",
+            ));
         }
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating output folder", e))?;
         if opts.segment_bytes == 0 || opts.segment_age.is_zero() {
-            return Err(Error::Usage("MCAP segment size and age limits must be positive".into()));
+            return Err(Error::Usage(
+                "MCAP segment size and age limits must be positive".into(),
+            ));
         }
-        Ok(McapSink { dir: dir.to_path_buf(), opts, current: None, next_index: 0, counters: Arc::default(), failing_since: None, retry_at: None })
+        Ok(McapSink {
+            dir: dir.to_path_buf(),
+            opts,
+            current: None,
+            next_index: 0,
+            counters: Arc::default(),
+            failing_since: None,
+            retry_at: None,
+        })
     }
 
     /// Shared counters (frames written and lost, segments opened and deleted).
@@ -153,7 +167,11 @@ impl McapSink {
             McapCounters::add(&self.counters.frames_lost, 1);
             return;
         }
-        if self.current.as_ref().is_some_and(|s| s.opened().elapsed() >= self.opts.segment_age) {
+        if self
+            .current
+            .as_ref()
+            .is_some_and(|s| s.opened().elapsed() >= self.opts.segment_age)
+        {
             self.close_current();
         }
         let stats = FrameStats::of(frame, latency_ms, dropped_before);
@@ -169,7 +187,11 @@ impl McapSink {
                     info!(after = ?since.elapsed(), lost_total = lost, "MCAP writing works again");
                 }
                 self.retry_at = None;
-                if self.current.as_ref().is_some_and(|s| s.len() >= self.opts.segment_bytes) {
+                if self
+                    .current
+                    .as_ref()
+                    .is_some_and(|s| s.len() >= self.opts.segment_bytes)
+                {
                     self.close_current();
                 }
             }
@@ -222,7 +244,9 @@ impl McapSink {
             };
             let mut path;
             loop {
-                path = self.dir.join(segment::segment_name(SystemTime::now(), self.next_index));
+                path = self
+                    .dir
+                    .join(segment::segment_name(SystemTime::now(), self.next_index));
                 self.next_index += 1;
                 // A name taken by an earlier run in the same second: take the next index.
                 if !path.exists() {
@@ -259,7 +283,9 @@ impl McapSink {
         if let Some(seg) = self.current.take() {
             match seg.finish() {
                 Ok(path) => info!(file = %path.display(), "MCAP segment closed"),
-                Err(e) => warn!(file = %e.path.display(), "closing MCAP segment failed: {}", e.message),
+                Err(e) => {
+                    warn!(file = %e.path.display(), "closing MCAP segment failed: {}", e.message)
+                }
             }
         }
     }
@@ -273,7 +299,9 @@ impl Sink for McapSink {
         let latency_ms = match frame.received {
             Some(r) => r.elapsed().as_secs_f64() * 1e3,
             None => {
-                let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0.0, |d| d.as_secs_f64());
+                let now = std::time::SystemTime::now()
+                    .duration_since(std::time::UNIX_EPOCH)
+                    .map_or(0.0, |d| d.as_secs_f64());
                 ((now - frame.unix_time) * 1e3).max(0.0)
             }
         };
@@ -288,7 +316,11 @@ impl Sink for McapSink {
     /// and the last segment then lacks its summary, though every frame in it stays readable).
     fn finish(&mut self) -> Result<()> {
         if let Some(seg) = self.current.take() {
-            let path = seg.finish().map_err(|e| Error::Io { path: e.path, action: "closing MCAP segment", source: std::io::Error::other(e.message) })?;
+            let path = seg.finish().map_err(|e| Error::Io {
+                path: e.path,
+                action: "closing MCAP segment",
+                source: std::io::Error::other(e.message),
+            })?;
             info!(file = %path.display(), "MCAP segment closed");
         }
         Ok(())

@@ -131,7 +131,13 @@ pub struct SegmentReader {
 impl SegmentReader {
     /// A reader positioned at the start of `path` (nothing is read yet).
     pub fn new(path: &Path) -> Self {
-        SegmentReader { path: path.to_path_buf(), offset: 0, channels: HashMap::new(), pending: None, complete: false }
+        SegmentReader {
+            path: path.to_path_buf(),
+            offset: 0,
+            channels: HashMap::new(),
+            pending: None,
+            complete: false,
+        }
     }
 
     /// The segment's file.
@@ -145,21 +151,38 @@ impl SegmentReader {
         if self.complete {
             return Ok(End::Complete);
         }
-        let mut file = File::open(&self.path).map_err(|e| Error::io(&self.path, "opening segment", e))?;
+        let mut file =
+            File::open(&self.path).map_err(|e| Error::io(&self.path, "opening segment", e))?;
         if self.offset == 0 {
             let mut magic = [0u8; 8];
-            let n = read_full(&mut file, &mut magic).map_err(|e| Error::io(&self.path, "reading", e))?;
+            let n = read_full(&mut file, &mut magic)
+                .map_err(|e| Error::io(&self.path, "reading", e))?;
             if magic[..n] != ::mcap::MAGIC[..n] {
-                return Err(Error::input(&self.path, "byte 0", "not an MCAP file: expected the magic bytes 89 4D 43 41 50 30 0D 0A"));
+                return Err(Error::input(
+                    &self.path,
+                    "byte 0",
+                    "not an MCAP file: expected the magic bytes 89 4D 43 41 50 30 0D 0A",
+                ));
             }
             if n < magic.len() {
-                return Ok(if n == 0 { End::Open } else { End::Torn { offset: 0, tail: n as u64 } });
+                return Ok(if n == 0 {
+                    End::Open
+                } else {
+                    End::Torn {
+                        offset: 0,
+                        tail: n as u64,
+                    }
+                });
             }
             self.offset = magic.len() as u64;
         }
-        file.seek(SeekFrom::Start(self.offset)).map_err(|e| Error::io(&self.path, "reading", e))?;
+        file.seek(SeekFrom::Start(self.offset))
+            .map_err(|e| Error::io(&self.path, "reading", e))?;
         let mut reader = LinearReader::new_with_options(
-            LinearReaderOptions::default().with_skip_start_magic(true).with_emit_chunks(true).with_record_length_limit(RECORD_LIMIT),
+            LinearReaderOptions::default()
+                .with_skip_start_magic(true)
+                .with_emit_chunks(true)
+                .with_record_length_limit(RECORD_LIMIT),
         );
         let mut fed = self.offset;
         loop {
@@ -170,9 +193,17 @@ impl SegmentReader {
                 }
                 Some(Ok(LinearReadEvent::ReadRequest(need))) => {
                     let buf = reader.insert(need.min(READ_STEP));
-                    let n = read_full(&mut file, buf).map_err(|e| Error::io(&self.path, "reading", e))?;
+                    let n = read_full(&mut file, buf)
+                        .map_err(|e| Error::io(&self.path, "reading", e))?;
                     if n == 0 {
-                        return Ok(if fed == self.offset { End::Open } else { End::Torn { offset: self.offset, tail: fed - self.offset } });
+                        return Ok(if fed == self.offset {
+                            End::Open
+                        } else {
+                            End::Torn {
+                                offset: self.offset,
+                                tail: fed - self.offset,
+                            }
+                        });
                     }
                     reader.notify_read(n);
                     fed += n as u64;
@@ -184,55 +215,89 @@ impl SegmentReader {
                         // back as zeros. Zeros to the end are a torn tail; anything else is damage.
                         return if zeros_from(&mut file, self.offset).unwrap_or(false) {
                             let size = file.metadata().map_or(fed, |m| m.len());
-                            Ok(End::Torn { offset: self.offset, tail: size - self.offset })
+                            Ok(End::Torn {
+                                offset: self.offset,
+                                tail: size - self.offset,
+                            })
                         } else {
-                            Err(Error::input(&self.path, format!("byte {}", self.offset), "record with opcode 0x00, which MCAP reserves: not a valid record"))
+                            Err(Error::input(
+                                &self.path,
+                                format!("byte {}", self.offset),
+                                "record with opcode 0x00, which MCAP reserves: not a valid record",
+                            ))
                         };
                     }
                     let offset = self.offset;
                     self.record(opcode, data, on_frame).map_err(|e| match e {
-                        Problem::Bad(problem) => Error::input(&self.path, format!("byte {offset}"), problem),
+                        Problem::Bad(problem) => {
+                            Error::input(&self.path, format!("byte {offset}"), problem)
+                        }
                         Problem::Stop(e) => e,
                     })?;
                     self.offset += len;
                 }
                 Some(Err(e)) => {
-                    return Err(Error::input(&self.path, format!("byte {}", self.offset), format!("not a readable MCAP record: {e}")));
+                    return Err(Error::input(
+                        &self.path,
+                        format!("byte {}", self.offset),
+                        format!("not a readable MCAP record: {e}"),
+                    ));
                 }
             }
         }
     }
 
     /// Handles one complete top-level record.
-    fn record(&mut self, opcode: u8, data: &[u8], on_frame: &mut dyn FnMut(Recorded) -> Result<()>) -> Result<(), Problem> {
-        match ::mcap::parse_record(opcode, data).map_err(|e| Problem::Bad(format!("record with opcode {opcode:#04x} does not parse: {e}")))? {
+    fn record(
+        &mut self,
+        opcode: u8,
+        data: &[u8],
+        on_frame: &mut dyn FnMut(Recorded) -> Result<()>,
+    ) -> Result<(), Problem> {
+        match ::mcap::parse_record(opcode, data).map_err(|e| {
+            Problem::Bad(format!(
+                "record with opcode {opcode:#04x} does not parse: {e}"
+            ))
+        })? {
             Record::Chunk { header, data } => {
                 // All records first: the chunk's CRC is checked at its end, and nothing of a
                 // damaged chunk may be returned.
                 let records = ::mcap::read::ChunkReader::new(header, &data)
                     .and_then(|r| r.collect::<Result<Vec<_>, _>>())
                     .map_err(|e| Problem::Bad(format!("chunk: {e}")))?;
-                records.into_iter().try_for_each(|r| self.inner(r, on_frame))
+                records
+                    .into_iter()
+                    .try_for_each(|r| self.inner(r, on_frame))
             }
             other => self.inner(other, on_frame),
         }
     }
 
     /// Handles a record from inside a chunk (or one written outside chunks).
-    fn inner(&mut self, r: Record<'_>, on_frame: &mut dyn FnMut(Recorded) -> Result<()>) -> Result<(), Problem> {
+    fn inner(
+        &mut self,
+        r: Record<'_>,
+        on_frame: &mut dyn FnMut(Recorded) -> Result<()>,
+    ) -> Result<(), Problem> {
         match r {
             Record::Channel(c) => {
                 let slot = Slot::of(&c.topic);
                 let want = if slot == Slot::Stats { "json" } else { "cdr" };
                 if slot != Slot::Other && c.message_encoding != want {
-                    return Err(Problem::Bad(format!("channel {} has message encoding {:?}, expected {want:?}", c.topic, c.message_encoding)));
+                    return Err(Problem::Bad(format!(
+                        "channel {} has message encoding {:?}, expected {want:?}",
+                        c.topic, c.message_encoding
+                    )));
                 }
                 self.channels.insert(c.id, slot);
                 Ok(())
             }
             Record::Message { header, data } => {
                 let Some(&slot) = self.channels.get(&header.channel_id) else {
-                    return Err(Problem::Bad(format!("message {} on channel {} that was never declared", header.sequence, header.channel_id)));
+                    return Err(Problem::Bad(format!(
+                        "message {} on channel {} that was never declared",
+                        header.sequence, header.channel_id
+                    )));
                 };
                 self.message(slot, header.sequence, &data, on_frame)
             }
@@ -240,27 +305,53 @@ impl SegmentReader {
         }
     }
 
-    fn message(&mut self, slot: Slot, sequence: u32, data: &[u8], on_frame: &mut dyn FnMut(Recorded) -> Result<()>) -> Result<(), Problem> {
+    fn message(
+        &mut self,
+        slot: Slot,
+        sequence: u32,
+        data: &[u8],
+        on_frame: &mut dyn FnMut(Recorded) -> Result<()>,
+    ) -> Result<(), Problem> {
         if slot == Slot::Other {
             return Ok(());
         }
         // Messages of one frame share its sequence number; a new number starts a new frame (one
         // left incomplete by a foreign writer is dropped, never returned half-filled).
         if !matches!(&self.pending, Some(p) if p.sequence == sequence) {
-            self.pending = Some(Partial { sequence, frame: Frame::default(), seen: [false; 4] });
+            self.pending = Some(Partial {
+                sequence,
+                frame: Frame::default(),
+                seen: [false; 4],
+            });
         }
         let p = self.pending.as_mut().expect("set above");
         if slot == Slot::Stats {
-            let stats: FrameStats = serde_json::from_slice(data).map_err(|e| Problem::Bad(format!("{} message {sequence}: {e}", topics::FRAME_STATS)))?;
+            let stats: FrameStats = serde_json::from_slice(data).map_err(|e| {
+                Problem::Bad(format!("{} message {sequence}: {e}", topics::FRAME_STATS))
+            })?;
             if let Some(i) = p.seen.iter().position(|s| !s) {
-                let topic = [Slot::DepthRaw, Slot::DepthLabels, Slot::RegisteredRaw, Slot::RegisteredLabels][i].image().2;
-                return Err(Problem::Bad(format!("frame {}: stats message before any {topic} message", stats.seq)));
+                let topic = [
+                    Slot::DepthRaw,
+                    Slot::DepthLabels,
+                    Slot::RegisteredRaw,
+                    Slot::RegisteredLabels,
+                ][i]
+                    .image()
+                    .2;
+                return Err(Problem::Bad(format!(
+                    "frame {}: stats message before any {topic} message",
+                    stats.seq
+                )));
             }
             let mut p = self.pending.take().expect("set above");
             p.frame.seq = stats.seq;
             p.frame.device_ts = stats.device_ts;
             p.frame.unix_time = stats.unix_time;
-            return on_frame(Recorded { frame: p.frame, stats }).map_err(Problem::Stop);
+            return on_frame(Recorded {
+                frame: p.frame,
+                stats,
+            })
+            .map_err(Problem::Stop);
         }
         let (encoding, bpp, topic) = slot.image();
         let bad = |what: String| Problem::Bad(format!("{topic} message {sequence}: {what}"));
@@ -277,7 +368,15 @@ impl SegmentReader {
                 f.has_rgb = true;
             }
         }
-        if let Some(i) = [Slot::DepthRaw, Slot::DepthLabels, Slot::RegisteredRaw, Slot::RegisteredLabels].iter().position(|&s| s == slot) {
+        if let Some(i) = [
+            Slot::DepthRaw,
+            Slot::DepthLabels,
+            Slot::RegisteredRaw,
+            Slot::RegisteredLabels,
+        ]
+        .iter()
+        .position(|&s| s == slot)
+        {
             p.seen[i] = true;
         }
         Ok(())
@@ -293,13 +392,24 @@ enum Problem {
 /// Checks an image is what umbra writes on that topic: 640×480, the encoding, packed rows.
 fn check_image(h: &ImageHeader<'_>, len: usize, encoding: &str, bpp: u32) -> Result<(), String> {
     if (h.width, h.height) != (WIDTH as u32, HEIGHT as u32) {
-        return Err(format!("size {}x{} is wrong, expected {WIDTH}x{HEIGHT}", h.width, h.height));
+        return Err(format!(
+            "size {}x{} is wrong, expected {WIDTH}x{HEIGHT}",
+            h.width, h.height
+        ));
     }
     if h.encoding != encoding || h.is_bigendian != 0 {
-        return Err(format!("encoding {:?} (big-endian {}) is wrong, expected {encoding:?} little-endian", h.encoding, h.is_bigendian));
+        return Err(format!(
+            "encoding {:?} (big-endian {}) is wrong, expected {encoding:?} little-endian",
+            h.encoding, h.is_bigendian
+        ));
     }
     if h.step != WIDTH as u32 * bpp || len != PIXELS * bpp as usize {
-        return Err(format!("step {} and {len} data bytes are wrong, expected {} and {}", h.step, WIDTH as u32 * bpp, PIXELS * bpp as usize));
+        return Err(format!(
+            "step {} and {len} data bytes are wrong, expected {} and {}",
+            h.step,
+            WIDTH as u32 * bpp,
+            PIXELS * bpp as usize
+        ));
     }
     Ok(())
 }

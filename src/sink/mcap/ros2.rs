@@ -137,11 +137,27 @@ impl CdrWriter<'_> {
 pub fn decode_image(bytes: &[u8]) -> Result<(ImageHeader<'_>, &[u8]), String> {
     match bytes.get(..4) {
         Some(h) if h == CDR_LE => {}
-        Some(&[0x00, 0x00, _, _]) => return Err("big-endian CDR is not supported, expected encapsulation 00 01 (CDR_LE)".into()),
-        Some(h) => return Err(format!("encapsulation header {h:02x?} is not CDR, expected 00 01 00 00")),
-        None => return Err(format!("{} bytes is too short for a CDR message", bytes.len())),
+        Some(&[0x00, 0x00, _, _]) => {
+            return Err(
+                "big-endian CDR is not supported, expected encapsulation 00 01 (CDR_LE)".into(),
+            )
+        }
+        Some(h) => {
+            return Err(format!(
+                "encapsulation header {h:02x?} is not CDR, expected 00 01 00 00"
+            ))
+        }
+        None => {
+            return Err(format!(
+                "{} bytes is too short for a CDR message",
+                bytes.len()
+            ))
+        }
     }
-    let mut r = CdrReader { buf: &bytes[4..], pos: 0 };
+    let mut r = CdrReader {
+        buf: &bytes[4..],
+        pos: 0,
+    };
     let sec = r.u32("header.stamp.sec")? as i32;
     let nanosec = r.u32("header.stamp.nanosec")?;
     let frame_id = r.string("header.frame_id")?;
@@ -152,7 +168,19 @@ pub fn decode_image(bytes: &[u8]) -> Result<(ImageHeader<'_>, &[u8]), String> {
     let step = r.u32("step")?;
     let n = r.u32("data length")? as usize;
     let data = r.take(n, "data")?;
-    Ok((ImageHeader { sec, nanosec, frame_id, height, width, encoding, is_bigendian, step }, data))
+    Ok((
+        ImageHeader {
+            sec,
+            nanosec,
+            frame_id,
+            height,
+            width,
+            encoding,
+            is_bigendian,
+            step,
+        },
+        data,
+    ))
 }
 
 struct CdrReader<'a> {
@@ -164,7 +192,11 @@ impl<'a> CdrReader<'a> {
     fn take(&mut self, n: usize, field: &str) -> Result<&'a [u8], String> {
         let end = self.pos.checked_add(n).filter(|&e| e <= self.buf.len());
         let Some(end) = end else {
-            return Err(format!("{field} at byte {} needs {n} bytes, the message ends at {}", self.pos + 4, self.buf.len() + 4));
+            return Err(format!(
+                "{field} at byte {} needs {n} bytes, the message ends at {}",
+                self.pos + 4,
+                self.buf.len() + 4
+            ));
         };
         let s = &self.buf[self.pos..end];
         self.pos = end;
@@ -180,8 +212,12 @@ impl<'a> CdrReader<'a> {
         let at = self.pos + 4;
         let b = self.take(n, field)?;
         match b.split_last() {
-            Some((0, s)) => std::str::from_utf8(s).map_err(|_| format!("{field} at byte {at} is not UTF-8")),
-            _ => Err(format!("{field} at byte {at} is not a NUL-terminated string")),
+            Some((0, s)) => {
+                std::str::from_utf8(s).map_err(|_| format!("{field} at byte {at} is not UTF-8"))
+            }
+            _ => Err(format!(
+                "{field} at byte {at} is not a NUL-terminated string"
+            )),
         }
     }
 }
@@ -199,7 +235,16 @@ mod tests {
 
     #[test]
     fn decode_rejects_short_and_foreign_messages() {
-        let h = ImageHeader { sec: 1, nanosec: 2, frame_id: "f", height: 1, width: 2, encoding: "mono8", is_bigendian: 0, step: 2 };
+        let h = ImageHeader {
+            sec: 1,
+            nanosec: 2,
+            frame_id: "f",
+            height: 1,
+            width: 2,
+            encoding: "mono8",
+            is_bigendian: 0,
+            step: 2,
+        };
         let mut buf = Vec::new();
         encode_image(&h, Pixels::U8(&[7, 8]), &mut buf);
         let (back, data) = decode_image(&buf).unwrap();

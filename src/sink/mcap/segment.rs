@@ -19,7 +19,12 @@ pub fn utc_stamp(t: SystemTime) -> String {
     let secs = t.duration_since(UNIX_EPOCH).map_or(0, |d| d.as_secs());
     let (days, rem) = (secs / 86_400, secs % 86_400);
     let (y, m, d) = civil_from_days(days as i64);
-    format!("{y:04}{m:02}{d:02}T{:02}{:02}{:02}Z", rem / 3600, rem / 60 % 60, rem % 60)
+    format!(
+        "{y:04}{m:02}{d:02}T{:02}{:02}{:02}Z",
+        rem / 3600,
+        rem / 60 % 60,
+        rem % 60
+    )
 }
 
 /// Proleptic Gregorian date of a day count since 1970-01-01 (H. Hinnant's `civil_from_days`).
@@ -50,7 +55,9 @@ pub fn list_segments(dir: &Path) -> Result<Vec<(PathBuf, u64)>> {
     let mut found = Vec::new();
     for e in entries.flatten() {
         let name = e.file_name();
-        let Some(key) = name.to_str().and_then(segment_key) else { continue };
+        let Some(key) = name.to_str().and_then(segment_key) else {
+            continue;
+        };
         // A segment deleted between read_dir and stat (the cap, another process) just drops out.
         if let Ok(meta) = e.metadata() {
             if meta.is_file() {
@@ -96,8 +103,14 @@ mod tests {
         let t = UNIX_EPOCH + Duration::from_secs(1_795_349_700); // 2026-11-22 12:15:00 UTC
         assert_eq!(segment_name(t, 3), "umbra-20261122T121500Z-3.mcap");
         assert_eq!(utc_stamp(UNIX_EPOCH), "19700101T000000Z");
-        assert_eq!(utc_stamp(UNIX_EPOCH + Duration::from_secs(951_782_400)), "20000229T000000Z");
-        assert_eq!(segment_key("umbra-20261122T121500Z-12.mcap"), Some(("20261122T121500Z".into(), 12)));
+        assert_eq!(
+            utc_stamp(UNIX_EPOCH + Duration::from_secs(951_782_400)),
+            "20000229T000000Z"
+        );
+        assert_eq!(
+            segment_key("umbra-20261122T121500Z-12.mcap"),
+            Some(("20261122T121500Z".into(), 12))
+        );
         assert_eq!(segment_key("umbra-2026-1.mcap"), None);
         assert_eq!(segment_key("other.mcap"), None);
     }
@@ -105,12 +118,20 @@ mod tests {
     #[test]
     fn cap_deletes_oldest_first_but_not_the_open_one() {
         let dir = tempfile::tempdir().unwrap();
-        let names = ["umbra-20260101T000000Z-2.mcap", "umbra-20260101T000000Z-10.mcap", "umbra-20250101T000000Z-0.mcap"];
+        let names = [
+            "umbra-20260101T000000Z-2.mcap",
+            "umbra-20260101T000000Z-10.mcap",
+            "umbra-20250101T000000Z-0.mcap",
+        ];
         for n in names {
             std::fs::write(dir.path().join(n), [0u8; 100]).unwrap();
         }
         std::fs::write(dir.path().join("notes.txt"), [0u8; 1000]).unwrap();
-        let order: Vec<_> = list_segments(dir.path()).unwrap().into_iter().map(|(p, _)| p.file_name().unwrap().to_owned()).collect();
+        let order: Vec<_> = list_segments(dir.path())
+            .unwrap()
+            .into_iter()
+            .map(|(p, _)| p.file_name().unwrap().to_owned())
+            .collect();
         assert_eq!(order, [names[2], names[0], names[1]]);
         let keep = dir.path().join(names[2]);
         let gone = enforce_cap(dir.path(), 150, Some(&keep)).unwrap();

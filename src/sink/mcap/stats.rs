@@ -66,7 +66,9 @@ impl<'de> Deserialize<'de> for ClassCounts {
         let mut out = [0; CLASSES];
         for (name, n) in map {
             let Some(c) = NAMES.iter().position(|&k| k == name) else {
-                return Err(D::Error::custom(format!("unknown class {name:?}, expected one of {NAMES:?}")));
+                return Err(D::Error::custom(format!(
+                    "unknown class {name:?}, expected one of {NAMES:?}"
+                )));
             };
             out[c] = n;
         }
@@ -106,9 +108,20 @@ mod tests {
 
     #[test]
     fn json_round_trip_uses_class_names() {
-        let s = FrameStats { seq: 3, device_ts: 7, unix_time: 1.25, latency_ms: 2.5, dropped_before: 1, ir: ClassCounts([1, 2, 3, 0, 5]), rgb: ClassCounts([6, 0, 0, 9, 1]) };
+        let s = FrameStats {
+            seq: 3,
+            device_ts: 7,
+            unix_time: 1.25,
+            latency_ms: 2.5,
+            dropped_before: 1,
+            ir: ClassCounts([1, 2, 3, 0, 5]),
+            rgb: ClassCounts([6, 0, 0, 9, 1]),
+        };
         let text = serde_json::to_string(&s).unwrap();
-        assert!(text.contains(r#""ir":{"valid":1,"attached":2,"detached":3,"alignment":0,"other":5}"#), "{text}");
+        assert!(
+            text.contains(r#""ir":{"valid":1,"attached":2,"detached":3,"alignment":0,"other":5}"#),
+            "{text}"
+        );
         assert_eq!(serde_json::from_str::<FrameStats>(&text).unwrap(), s);
         assert!(serde_json::from_str::<FrameStats>(&text.replace("valid", "nope")).is_err());
         let schema: serde_json::Value = serde_json::from_str(&json_schema()).unwrap();

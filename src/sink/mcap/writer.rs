@@ -44,7 +44,10 @@ pub struct WriteError {
 
 impl WriteError {
     fn new(path: &Path, what: &str, e: impl std::fmt::Display) -> Self {
-        WriteError { path: path.to_path_buf(), message: format!("{what}: {e}") }
+        WriteError {
+            path: path.to_path_buf(),
+            message: format!("{what}: {e}"),
+        }
     }
 }
 
@@ -97,15 +100,23 @@ impl Syncer {
         let (ask, asked) = crossbeam_channel::bounded::<()>(1);
         let failed = Arc::new(std::sync::Mutex::new(None));
         let f = failed.clone();
-        let thread = std::thread::Builder::new().name("mcap-sync".into()).spawn(move || {
-            for () in asked {
-                if let Err(e) = file.sync_data() {
-                    f.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
+        let thread = std::thread::Builder::new()
+            .name("mcap-sync".into())
+            .spawn(move || {
+                for () in asked {
+                    if let Err(e) = file.sync_data() {
+                        f.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
+                    }
                 }
-            }
-            file
-        })?;
-        Ok(Syncer { every, last: Instant::now(), ask: Some(ask), failed, thread: Some(thread) })
+                file
+            })?;
+        Ok(Syncer {
+            every,
+            last: Instant::now(),
+            ask: Some(ask),
+            failed,
+            thread: Some(thread),
+        })
     }
 
     /// Asks for a sync if the interval has passed; returns an earlier sync's failure.
@@ -156,19 +167,38 @@ struct Channels {
 impl SegmentWriter {
     /// Creates `path` (which must not exist) and writes the MCAP header, schemas and channels.
     pub fn create(path: &Path, settings: &SegmentSettings) -> Result<Self, WriteError> {
-        let file = File::options().write(true).create_new(true).open(path).map_err(|e| WriteError::new(path, "creating segment", e))?;
+        let file = File::options()
+            .write(true)
+            .create_new(true)
+            .open(path)
+            .map_err(|e| WriteError::new(path, "creating segment", e))?;
         let sync = match settings.sync_interval {
             Some(every) => {
-                let f = file.try_clone().map_err(|e| WriteError::new(path, "opening segment", e))?;
-                Some(Syncer::start(f, every).map_err(|e| WriteError::new(path, "starting the sync thread", e))?)
+                let f = file
+                    .try_clone()
+                    .map_err(|e| WriteError::new(path, "opening segment", e))?;
+                Some(
+                    Syncer::start(f, every)
+                        .map_err(|e| WriteError::new(path, "starting the sync thread", e))?,
+                )
             }
             None => None,
         };
         let written = Arc::new(AtomicU64::new(0));
-        let sink = BufWriter::with_capacity(1 << 16, CountingFile { file, written: written.clone() });
+        let sink = BufWriter::with_capacity(
+            1 << 16,
+            CountingFile {
+                file,
+                written: written.clone(),
+            },
+        );
         let opts = WriteOptions::new()
             .profile("ros2")
-            .library(format!("umbra {} (mcap-rs {})", env!("CARGO_PKG_VERSION"), ::mcap::VERSION))
+            .library(format!(
+                "umbra {} (mcap-rs {})",
+                env!("CARGO_PKG_VERSION"),
+                ::mcap::VERSION
+            ))
             .compression(Some(Compression::Zstd))
             .compression_level(settings.zstd_level)
             // One compression thread per chunk would compete with the classifier for the cores.
@@ -176,11 +206,21 @@ impl SegmentWriter {
             .chunk_size(None)
             .disable_seeking(true);
         let fail = |what: &str, e: McapError| WriteError::new(path, what, e);
-        let mut writer = opts.create(sink).map_err(|e| fail("writing MCAP header", e))?;
-        let image = writer.add_schema(IMAGE_TYPE, "ros2msg", IMAGE_DEFINITION.as_bytes()).map_err(|e| fail("adding schema", e))?;
-        let json = writer.add_schema(STATS_TYPE, "jsonschema", stats::json_schema().as_bytes()).map_err(|e| fail("adding schema", e))?;
+        let mut writer = opts
+            .create(sink)
+            .map_err(|e| fail("writing MCAP header", e))?;
+        let image = writer
+            .add_schema(IMAGE_TYPE, "ros2msg", IMAGE_DEFINITION.as_bytes())
+            .map_err(|e| fail("adding schema", e))?;
+        let json = writer
+            .add_schema(STATS_TYPE, "jsonschema", stats::json_schema().as_bytes())
+            .map_err(|e| fail("adding schema", e))?;
         let none = BTreeMap::new();
-        let mut add = |schema: u16, topic: &str, encoding: &str| writer.add_channel(schema, topic, encoding, &none).map_err(|e| fail("adding channel", e));
+        let mut add = |schema: u16, topic: &str, encoding: &str| {
+            writer
+                .add_channel(schema, topic, encoding, &none)
+                .map_err(|e| fail("adding channel", e))
+        };
         let channels = Channels {
             depth_raw: add(image, topics::DEPTH_RAW, "cdr")?,
             depth_labels: add(image, topics::DEPTH_LABELS, "cdr")?,
@@ -188,12 +228,27 @@ impl SegmentWriter {
             reg_labels: add(image, topics::REGISTERED_LABELS, "cdr")?,
             rgb: add(image, topics::RGB_RAW, "cdr")?,
             stats: add(json, topics::FRAME_STATS, "json")?,
-            foreground: if settings.write_foreground { Some(add(image, topics::FOREGROUND_MASK, "cdr")?) } else { None },
+            foreground: if settings.write_foreground {
+                Some(add(image, topics::FOREGROUND_MASK, "cdr")?)
+            } else {
+                None
+            },
         };
         // Header, schemas and channels reach the disk now, so a reader sees a valid file at once.
         writer.flush().map_err(|e| fail("writing MCAP header", e))?;
         let good_len = written.load(Ordering::Relaxed);
-        Ok(SegmentWriter { path: path.to_path_buf(), writer, written, good_len, opened: Instant::now(), channels, write_rgb: settings.write_rgb, buf: Vec::new(), frames: 0, sync })
+        Ok(SegmentWriter {
+            path: path.to_path_buf(),
+            writer,
+            written,
+            good_len,
+            opened: Instant::now(),
+            channels,
+            write_rgb: settings.write_rgb,
+            buf: Vec::new(),
+            frames: 0,
+            sync,
+        })
     }
 
     /// The segment's file.
@@ -220,16 +275,41 @@ impl SegmentWriter {
     /// `unix_time`, in a chunk of its own. Nothing is written if the segment was opened without
     /// the foreground channel.
     pub fn write_mask(&mut self, seq: u64, unix_time: f64, mask: &[u8]) -> Result<(), WriteError> {
-        let Some(channel) = self.channels.foreground else { return Ok(()) };
+        let Some(channel) = self.channels.foreground else {
+            return Ok(());
+        };
         let (sec, nanosec) = ros2::stamp(unix_time);
         let time = u64::from(sec as u32) * 1_000_000_000 + u64::from(nanosec);
         let w = WIDTH as u32;
-        let h = ImageHeader { sec, nanosec, frame_id: RGB_FRAME_ID, height: HEIGHT as u32, width: w, encoding: "mono8", is_bigendian: 0, step: w };
+        let h = ImageHeader {
+            sec,
+            nanosec,
+            frame_id: RGB_FRAME_ID,
+            height: HEIGHT as u32,
+            width: w,
+            encoding: "mono8",
+            is_bigendian: 0,
+            step: w,
+        };
         self.buf.clear();
         ros2::encode_image(&h, Pixels::U8(mask), &mut self.buf);
-        let header = MessageHeader { channel_id: channel, sequence: seq as u32, log_time: time, publish_time: time };
-        let result = self.writer.write_to_known_channel(&header, &self.buf).and_then(|()| self.end_chunk());
-        result.map_err(|e| WriteError::new(&self.path, &format!("writing the foreground mask of frame {seq}"), e))
+        let header = MessageHeader {
+            channel_id: channel,
+            sequence: seq as u32,
+            log_time: time,
+            publish_time: time,
+        };
+        let result = self
+            .writer
+            .write_to_known_channel(&header, &self.buf)
+            .and_then(|()| self.end_chunk());
+        result.map_err(|e| {
+            WriteError::new(
+                &self.path,
+                &format!("writing the foreground mask of frame {seq}"),
+                e,
+            )
+        })
     }
 
     /// Closes the chunk (the unit a reader trusts after a crash), asks for a background sync when
@@ -249,31 +329,68 @@ impl SegmentWriter {
         let (sec, nanosec) = ros2::stamp(frame.unix_time);
         let time = u64::from(sec as u32) * 1_000_000_000 + u64::from(nanosec);
         let w = WIDTH as u32;
-        let image = |frame_id, encoding, bytes_pp: u32| ImageHeader { sec, nanosec, frame_id, height: HEIGHT as u32, width: w, encoding, is_bigendian: 0, step: w * bytes_pp };
+        let image = |frame_id, encoding, bytes_pp: u32| ImageHeader {
+            sec,
+            nanosec,
+            frame_id,
+            height: HEIGHT as u32,
+            width: w,
+            encoding,
+            is_bigendian: 0,
+            step: w * bytes_pp,
+        };
         let c = &self.channels;
         let mut messages: Vec<(u16, ImageHeader<'_>, Pixels<'_>)> = vec![
-            (c.depth_raw, image(DEPTH_FRAME_ID, "16UC1", 2), Pixels::U16(&frame.depth)),
-            (c.depth_labels, image(DEPTH_FRAME_ID, "mono8", 1), Pixels::U8(&frame.labels.ir_labels)),
-            (c.reg_raw, image(RGB_FRAME_ID, "16UC1", 2), Pixels::U16(&frame.labels.registered_mm)),
-            (c.reg_labels, image(RGB_FRAME_ID, "mono8", 1), Pixels::U8(&frame.labels.rgb_labels)),
+            (
+                c.depth_raw,
+                image(DEPTH_FRAME_ID, "16UC1", 2),
+                Pixels::U16(&frame.depth),
+            ),
+            (
+                c.depth_labels,
+                image(DEPTH_FRAME_ID, "mono8", 1),
+                Pixels::U8(&frame.labels.ir_labels),
+            ),
+            (
+                c.reg_raw,
+                image(RGB_FRAME_ID, "16UC1", 2),
+                Pixels::U16(&frame.labels.registered_mm),
+            ),
+            (
+                c.reg_labels,
+                image(RGB_FRAME_ID, "mono8", 1),
+                Pixels::U8(&frame.labels.rgb_labels),
+            ),
         ];
         if self.write_rgb && frame.has_rgb {
-            messages.push((c.rgb, image(RGB_FRAME_ID, "rgb8", 3), Pixels::U8(&frame.rgb)));
+            messages.push((
+                c.rgb,
+                image(RGB_FRAME_ID, "rgb8", 3),
+                Pixels::U8(&frame.rgb),
+            ));
         }
         // MCAP's per-channel sequence is 32-bit; the full seq is in the stats message.
-        let header = |channel_id| MessageHeader { channel_id, sequence: frame.seq as u32, log_time: time, publish_time: time };
+        let header = |channel_id| MessageHeader {
+            channel_id,
+            sequence: frame.seq as u32,
+            log_time: time,
+            publish_time: time,
+        };
         let result = (|| -> Result<(), McapError> {
             for (channel, h, pixels) in &messages {
                 self.buf.clear();
                 ros2::encode_image(h, *pixels, &mut self.buf);
-                self.writer.write_to_known_channel(&header(*channel), &self.buf)?;
+                self.writer
+                    .write_to_known_channel(&header(*channel), &self.buf)?;
             }
             self.buf.clear();
             serde_json::to_writer(&mut self.buf, stats).expect("stats serialise to JSON");
-            self.writer.write_to_known_channel(&header(self.channels.stats), &self.buf)?;
+            self.writer
+                .write_to_known_channel(&header(self.channels.stats), &self.buf)?;
             self.end_chunk()
         })();
-        result.map_err(|e| WriteError::new(&self.path, &format!("writing frame {}", frame.seq), e))?;
+        result
+            .map_err(|e| WriteError::new(&self.path, &format!("writing frame {}", frame.seq), e))?;
         self.frames += 1;
         Ok(())
     }
@@ -281,7 +398,11 @@ impl SegmentWriter {
     /// Writes the summary section and footer and closes the file. On failure the segment is
     /// [abandoned](Self::abandon).
     pub fn finish(mut self) -> Result<PathBuf, WriteError> {
-        let result = self.writer.finish().and_then(|_| self.sync.take().map_or(Ok(()), |s| s.finish().map_err(McapError::from)));
+        let result = self.writer.finish().and_then(|_| {
+            self.sync
+                .take()
+                .map_or(Ok(()), |s| s.finish().map_err(McapError::from))
+        });
         match result {
             Ok(()) => Ok(self.path),
             Err(e) => {
@@ -296,7 +417,12 @@ impl SegmentWriter {
     /// ends on a record boundary instead of a torn chunk. Best effort: on a full disk shrinking
     /// works; where the folder has vanished nothing does, and readers report the torn tail.
     pub fn abandon(self) {
-        let SegmentWriter { path, writer, good_len, .. } = self;
+        let SegmentWriter {
+            path,
+            writer,
+            good_len,
+            ..
+        } = self;
         // Dropping the writer flushes what its buffer still holds: cut only after that.
         drop(writer);
         if let Ok(f) = File::options().write(true).open(&path) {
