@@ -37,8 +37,8 @@ pub struct Warp {
     /// Inverse depth is linear in raw: `iz = (denominator − raw) / numerator`.
     iz_scale: f32,
     iz_offset: f32,
-    /// Whether this CPU runs the AVX2+FMA build of the hot loops (detected once).
-    wide: bool,
+    /// Which build of the hot loops this CPU runs (detected once).
+    simd: Simd,
     /// `R · K_depth⁻¹ · (0, v, 1)` per source row: the rotated ray of column 0.
     row_ray: Vec<[f32; 3]>,
     /// `R · K_depth⁻¹ · (1, 0, 0)`: the ray's change per column.
@@ -50,7 +50,8 @@ pub struct Warp {
     half_px: f32,
     /// Raw-value step above which neighbours are different surfaces (1.5 px of disparity).
     jump_raw: i32,
-    zbuf: Vec<u32>,
+    /// A fixed-size array, so the splat's index clamp proves every store in bounds.
+    zbuf: Box<[u32; PIXELS + 1]>,
     target: Vec<u32>,
     /// Packed z-buffer key of each pixel of the current source row; `EMPTY` for no depth.
     keys: Vec<u32>,
@@ -75,7 +76,7 @@ impl Warp {
         Warp {
             iz_scale: (-1.0 / calib.raw.numerator) as f32,
             iz_offset: (calib.raw.denominator / calib.raw.numerator) as f32,
-            wide: wide_simd_available(),
+            simd: Simd::detect(),
             row_ray: (0..HEIGHT)
                 .map(|v| rot(-d.cx / d.fx, (v as f64 - d.cy) / d.fy, 1.0))
                 .collect(),
@@ -85,13 +86,22 @@ impl Warp {
             rgb_c: [calib.rgb.cx as f32, calib.rgb.cy as f32],
             half_px: (0.5 * calib.rgb.fx / d.fx) as f32,
             jump_raw: (1.5 / calib.px_per_raw()).round() as i32,
-            zbuf: vec![EMPTY; PIXELS + 1],
+            zbuf: vec![EMPTY; PIXELS + 1]
+                .into_boxed_slice()
+                .try_into()
+                .expect("PIXELS + 1 slots"),
             target: vec![OUTSIDE; WIDTH],
             keys: vec![EMPTY; WIDTH],
             columns: (0..WIDTH).map(|u| u as f32).collect(),
             parity: (0..WIDTH).map(|u| ((u & 1) as u32) << LABEL_BITS).collect(),
             prev_row: vec![EMPTY; WIDTH],
         }
+    }
+
+    /// Runs the given build of the hot loops (tests compare the builds).
+    #[cfg(test)]
+    pub(crate) fn set_simd(&mut self, simd: Simd) {
+        self.simd = simd;
     }
 
     /// Warps one frame. `filled` is the raw map with every hole given an assumed depth (from the
@@ -104,11 +114,12 @@ impl Warp {
                 && rgb.len() == PIXELS
                 && mm.len() == PIXELS
         );
+        // SAFETY: each build runs only when the CPU reported its features at construction.
         #[cfg(target_arch = "x86_64")]
-        if self.wide {
-            // SAFETY: `wide` is only true when the CPU reported AVX2 and FMA at construction.
-            unsafe { self.apply_avx2(filled, ir, rgb, mm) };
-            return;
+        match self.simd {
+            Simd::Avx512 => return unsafe { self.apply_avx512(filled, ir, rgb, mm) },
+            Simd::Avx2 => return unsafe { self.apply_avx2(filled, ir, rgb, mm) },
+            Simd::Baseline => {}
         }
         self.apply_body(filled, ir, rgb, mm);
     }
@@ -117,6 +128,13 @@ impl Warp {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn apply_avx2(&mut self, filled: &[u16], ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
+        self.apply_body(filled, ir, rgb, mm);
+    }
+
+    /// The same code compiled for AVX-512: sixteen pixels per instruction in the projection.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512bw,avx512vl,avx512dq,avx2,fma")]
+    unsafe fn apply_avx512(&mut self, filled: &[u16], ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
         self.apply_body(filled, ir, rgb, mm);
     }
 
@@ -154,6 +172,9 @@ impl Warp {
         let [sx, sy, sz] = self.col_step;
         let [tx, ty, tz] = self.t;
         let (fx, fy) = (self.rgb_f[0], self.rgb_f[1]);
+        // The focal lengths folded into the ray once per row: two multiplies fewer per pixel.
+        let (bx, sx, tx) = (fx * bx, fx * sx, fx * tx);
+        let (by, sy, ty) = (fy * by, fy * sy, fy * ty);
         let (cx, cy) = (self.rgb_c[0], self.rgb_c[1]);
         let (w, h) = (WIDTH as f32 - 0.5, HEIGHT as f32 - 0.5);
         let (iz_scale, iz_offset) = (self.iz_scale, self.iz_offset);
@@ -162,13 +183,15 @@ impl Warp {
         let flip = ((v & 1) as u32) << LABEL_BITS;
         let inputs = filled.iter().zip(&self.columns).zip(ir).zip(&self.parity);
         for ((t_out, k_out), (((&raw, &uf), &label), &parity)) in out.zip(inputs) {
-            let iz = f32::from(raw) * iz_scale + iz_offset;
+            let rawf = f32::from(raw);
+            let iz = rawf * iz_scale + iz_offset;
             let nz = bz + uf * sz + tz * iz;
             let r = 1.0 / (nz * iz);
             let inv_nz = r * iz;
-            let x = fx * (bx + uf * sx + tx * iz) * inv_nz + cx;
-            let y = fy * (by + uf * sy + ty * iz) * inv_nz + cy;
-            let valid = (iz > 0.0) & (raw < NO_DEPTH) & (nz > 0.0);
+            let x = (bx + uf * sx + tx * iz) * inv_nz + cx;
+            let y = (by + uf * sy + ty * iz) * inv_nz + cy;
+            // The hole test on the float already at hand (one compare, no 16-bit widening).
+            let valid = (iz > 0.0) & (rawf < NO_DEPTH as f32 - 0.5) & (nz > 0.0);
             // `&`, not `&&`: no short-circuit branches in the vector loop.
             let inside = valid & (x > -0.5) & (x < w) & (y > -0.5) & (y < h);
             // Lanes that are not `inside` may hold garbage here; the select below drops them.
@@ -184,7 +207,8 @@ impl Warp {
     fn splat_row(&mut self, v: usize, filled: &[u16], ir: &[u8]) {
         // Off-image pixels land in the spare slot past the image: no branch per pixel.
         for (&t, &k) in self.target.iter().zip(&self.keys) {
-            let slot = &mut self.zbuf[t as usize];
+            // `t <= OUTSIDE` always; the `min` is a cmov that spares a bounds-check branch.
+            let slot = &mut self.zbuf[(t as usize).min(PIXELS)];
             *slot = (*slot).min(k);
         }
         // A nearer pixel followed by a farther one splits apart: the RGB camera, right of the IR
@@ -339,15 +363,44 @@ fn clamp_fast(x: f32, lo: f32, hi: f32) -> f32 {
     }
 }
 
-/// True when the AVX2+FMA build of the hot loops can run on this CPU.
-pub(crate) fn wide_simd_available() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
+/// The widest build of the hot loops this CPU can run (the classifier's two stages each compile
+/// their loops once per level and pick one at construction).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Simd {
+    /// AVX-512 (F, BW, VL, DQ) with AVX2 and FMA: sixteen f32 lanes.
+    Avx512,
+    /// AVX2 and FMA: eight f32 lanes.
+    Avx2,
+    /// Whatever the compile target guarantees (SSE2 on x86-64).
+    Baseline,
+}
+
+impl Simd {
+    /// Detects the widest level this CPU supports; `UMBRA_SIMD=avx2|baseline` caps it (to compare
+    /// builds, or to dodge a CPU that clocks down under AVX-512).
+    pub(crate) fn detect() -> Simd {
+        let cap = std::env::var("UMBRA_SIMD").unwrap_or_default();
+        #[cfg(target_arch = "x86_64")]
+        {
+            let avx2 =
+                std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma");
+            let avx512 = avx2
+                && std::is_x86_feature_detected!("avx512f")
+                && std::is_x86_feature_detected!("avx512bw")
+                && std::is_x86_feature_detected!("avx512vl")
+                && std::is_x86_feature_detected!("avx512dq");
+            match cap.as_str() {
+                "baseline" => Simd::Baseline,
+                _ if avx512 && cap != "avx2" => Simd::Avx512,
+                _ if avx2 => Simd::Avx2,
+                _ => Simd::Baseline,
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            let _ = cap;
+            Simd::Baseline
+        }
     }
 }
 

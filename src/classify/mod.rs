@@ -91,3 +91,58 @@ impl Classifier {
         );
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::align::Simd;
+    use super::*;
+    use crate::synth::{random_scene, render_frame, sensor_for, Category};
+
+    /// Every build of the hot loops (baseline, AVX2, AVX-512, whichever this CPU runs) labels
+    /// busy simulated frames identically, bit for bit, in both views and in registered depth.
+    #[test]
+    fn every_simd_build_gives_identical_output() {
+        let calib = Calibration::nyu_default();
+        let mut levels = vec![Simd::Baseline];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+                levels.push(Simd::Avx2);
+            }
+            if Simd::detect() == Simd::Avx512 {
+                levels.push(Simd::Avx512);
+            }
+        }
+        for seed in [3, 8] {
+            let scene = random_scene(Category::Complex, seed);
+            let frame = render_frame(&scene, &calib, &sensor_for(Category::Complex), seed);
+            let mut outputs = Vec::new();
+            for &level in &levels {
+                let mut c = Classifier::new(&calib);
+                c.scan.set_simd(level);
+                c.warp.set_simd(level);
+                let mut out = Classified::default();
+                c.classify(&frame.raw, &mut out);
+                // A second frame through the same classifier: its scratch state resets cleanly.
+                c.classify(&frame.raw, &mut out);
+                outputs.push((level, out));
+            }
+            let (base_level, base) = &outputs[0];
+            assert!(base.ir_labels.iter().any(|&l| l != 0), "a busy frame");
+            for (level, out) in &outputs[1..] {
+                assert!(
+                    base.ir_labels == out.ir_labels,
+                    "IR labels: {level:?} vs {base_level:?}"
+                );
+                assert!(
+                    base.rgb_labels == out.rgb_labels,
+                    "RGB labels: {level:?} vs {base_level:?}"
+                );
+                assert!(
+                    base.registered_mm == out.registered_mm,
+                    "registered depth: {level:?} vs {base_level:?}"
+                );
+            }
+        }
+    }
+}

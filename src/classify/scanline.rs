@@ -12,6 +12,7 @@
 //! Disparity is linear in the raw value (see [`crate::calib`]), so all tests run on raw values
 //! scaled by one constant. Everything is on the stack: no allocation per row or frame.
 
+use super::align::Simd;
 use super::Params;
 use crate::calib::Calibration;
 use crate::labels::{ATTACHED, DETACHED, NO_DEPTH, OTHER, VALID, WIDTH};
@@ -34,8 +35,8 @@ pub struct ScanParams {
     max_disp: f32,
     /// Raw value assumed for holes with no valid neighbour at all (a surface at 2.5 m).
     fallback_raw: u16,
-    /// Whether this CPU runs the AVX2+FMA build.
-    wide: bool,
+    /// Which build of the hot loops this CPU runs.
+    simd: Simd,
     /// Raw-value step of a depth edge (`min_step` pixels of disparity), for flying pixels.
     edge_raw: u16,
 }
@@ -53,9 +54,15 @@ impl ScanParams {
             max_island: p.max_island_px,
             max_disp: (calib.fb() / 0.4) as f32,
             fallback_raw: fallback,
-            wide: super::align::wide_simd_available(),
+            simd: Simd::detect(),
             edge_raw: (p.min_step_px / calib.px_per_raw()).ceil().max(2.0) as u16,
         }
+    }
+
+    /// Runs the given build of the hot loops (tests compare the builds).
+    #[cfg(test)]
+    pub(crate) fn set_simd(&mut self, simd: Simd) {
+        self.simd = simd;
     }
 
     /// Disparity in pixels of a raw value (eq. 3's `disp`).
@@ -68,11 +75,12 @@ impl ScanParams {
 /// Classifies a whole frame row by row. `filled` receives the raw values with each hole replaced
 /// by the raw value of the surface it is assumed to lie on (used to warp holes into the RGB view).
 pub fn classify_frame(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &mut [u16]) {
+    // SAFETY: each build runs only when the CPU reported its features.
     #[cfg(target_arch = "x86_64")]
-    if p.wide {
-        // SAFETY: `wide` is only true when the CPU reported AVX2 and FMA.
-        unsafe { classify_frame_avx2(p, raw, labels, filled) };
-        return;
+    match p.simd {
+        Simd::Avx512 => return unsafe { classify_frame_avx512(p, raw, labels, filled) },
+        Simd::Avx2 => return unsafe { classify_frame_avx2(p, raw, labels, filled) },
+        Simd::Baseline => {}
     }
     classify_frame_body(p, raw, labels, filled);
 }
@@ -81,6 +89,18 @@ pub fn classify_frame(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &m
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn classify_frame_avx2(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &mut [u16]) {
+    classify_frame_body(p, raw, labels, filled);
+}
+
+/// [`classify_frame`] compiled for AVX-512.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512bw,avx512vl,avx512dq,avx2,fma")]
+unsafe fn classify_frame_avx512(
+    p: &ScanParams,
+    raw: &[u16],
+    labels: &mut [u8],
+    filled: &mut [u16],
+) {
     classify_frame_body(p, raw, labels, filled);
 }
 
