@@ -36,7 +36,7 @@ fn busy_frame(c: &Calibration) -> Vec<u16> {
         seed ^= seed << 13;
         seed ^= seed >> 17;
         seed ^= seed << 5;
-        if seed % 97 == 0 {
+        if seed.is_multiple_of(97) {
             *px = NO_DEPTH;
         }
     }

@@ -47,7 +47,7 @@ fn depth(k: usize) -> Vec<u16> {
     (0..PIXELS)
         .map(|i| {
             let (x, y) = (i % WIDTH, i / WIDTH);
-            if (i * 7919 + k * 31) % 1009 == 0 {
+            if (i * 7919 + k * 31).is_multiple_of(1009) {
                 NO_DEPTH
             } else if (150 + 9 * k..330 + 9 * k).contains(&x) && (120..360).contains(&y) {
                 near

@@ -335,7 +335,7 @@ impl GridFlow {
                     continue;
                 }
                 if let Some(d) = self.origin_distance(q) {
-                    if best.map_or(true, |(_, bd)| d < bd) {
+                    if best.is_none_or(|(_, bd)| d < bd) {
                         best = Some((k, d));
                     }
                     // Stamp the path just checked so later walks stop early.

@@ -409,7 +409,7 @@ trait BestCount {
 
 impl BestCount for Option<([f32; 3], usize)> {
     fn is_none_or_smaller(&self, count: usize) -> bool {
-        self.map_or(true, |(_, c)| count > c)
+        self.is_none_or(|(_, c)| count > c)
     }
 }
 

@@ -270,7 +270,7 @@ fn intersect_cylinder(
     let dp = d - axis * da;
     let mut best: Option<Hit> = None;
     let mut consider = |t: f64, normal: V3| {
-        if t > tmin && t < tmax && best.map_or(true, |b| t < b.t) {
+        if t > tmin && t < tmax && best.is_none_or(|b| t < b.t) {
             best = Some(Hit { t, normal });
         }
     };

@@ -117,7 +117,7 @@ struct CdrWriter<'a> {
 
 impl CdrWriter<'_> {
     fn align(&mut self, n: usize) {
-        while (self.out.len() - self.base) % n != 0 {
+        while !(self.out.len() - self.base).is_multiple_of(n) {
             self.out.push(0);
         }
     }
