@@ -114,6 +114,44 @@ fn thin_rod_casts_detached_shadow_at_hand_computed_place() {
 }
 
 #[test]
+fn black_rod_without_depth_still_casts_a_detached_shadow() {
+    // The same rod geometry, but black: the sensor measures nothing on it, so its hole and its
+    // shadow are two holes on the wall. Hand geometry: the 3 cm rod at 1.2 m spans
+    // 0.03·f/1.2 = 14.6 px, its shadow lies w = f·b·(1/1.2 − 1/3) = 21.8 px further left, so a
+    // 7 px lit gap separates them (detached). Scored against the simulator's exact labels with
+    // the noisy Kinect sensor model.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::rod_before_wall(0.1, 1.2, 0.015, 3.0);
+    scene.objects[1].material = umbra::synth::Material::black();
+    let (mut ir, mut rgb) = (Confusion::default(), Confusion::default());
+    let mut registered = Vec::new();
+    for seed in 0..3 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 40 + seed);
+        assert!(
+            frame.ir_labels.contains(&DETACHED),
+            "the simulator casts one"
+        );
+        let out = classify(&calib, &frame);
+        ir.add(&frame.ir_labels, &out.ir_labels);
+        rgb.add(&frame.rgb_labels, &out.rgb_labels);
+        registered.push(out);
+    }
+    at_least(&ir, Some(DETACHED), 0.90, "IR detached of a black rod");
+    at_least(&rgb, Some(DETACHED), 0.85, "RGB detached of a black rod");
+    // Its depth, implied by the shadow's shift, places it in the RGB view, so the background it
+    // hides from the IR camera shows up as alignment shadow right of it: f_rgb·0.025·(1/1.2 −
+    // 1/3) = 6.5 px per row.
+    at_least(
+        &rgb,
+        Some(ALIGNMENT),
+        0.75,
+        "RGB alignment beside a black rod",
+    );
+    let any = ir.any_shadow();
+    assert!(any.precision.unwrap() >= 0.98, "IR any shadow {any:?}");
+}
+
+#[test]
 fn holes_without_depth_edge_are_never_shadows() {
     // A bare wall with the Kinect noise model: only speckle holes, all OTHER.
     let calib = Calibration::nyu_default();

@@ -119,6 +119,7 @@ fn classify_frame_body(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &
             p,
             row,
             &column_memory,
+            &raw[v.saturating_sub(1) * WIDTH..v * WIDTH],
             &raw[(v + 1) * WIDTH..],
             far,
             lab,
@@ -159,8 +160,9 @@ pub fn farthest_measured(raw: &[u16]) -> u16 {
 }
 
 /// Classifies one row: `raw` in, `labels` and `filled` out. `above` holds, per column, the last
-/// valid raw value in the rows above (or 2047); `below` is the rest of the frame under this row
-/// (whole rows, possibly empty). Both only serve holes that touch the left border. `far` is the
+/// valid raw value in the rows above (or 2047); `prev` is the raw row above (empty for the first
+/// row); `below` is the rest of the frame under this row (whole rows, possibly empty). They serve
+/// holes that touch the left border, and the vertical check of depthless occluders. `far` is the
 /// frame's [`farthest_measured`] raw value.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
@@ -168,6 +170,7 @@ pub fn classify_row(
     p: &ScanParams,
     raw: &[u16],
     above: &[u16],
+    prev: &[u16],
     below: &[u16],
     far: u16,
     labels: &mut [u8],
@@ -187,7 +190,10 @@ pub fn classify_row(
         let left = (h.start > 0).then(|| bound_left(raw, h.start));
         let right = (h.end < n).then(|| bound_right(raw, h.end));
         match (left, right) {
-            (Some(sa), Some(sb)) => classify_bounded(p, raw, *h, sa, sb, far, labels, filled),
+            (Some(sa), Some(sb)) => {
+                let next = &below[..below.len().min(n)];
+                classify_bounded(p, raw, *h, sa, sb, far, [prev, next], labels, filled)
+            }
             (None, Some(sb)) => classify_left_border(p, raw, *h, sb, above, below, labels, filled),
             (Some(sa), None) => fill(filled, *h, sa.far),
             (None, None) => fill(filled, *h, p.fallback_raw),
@@ -354,7 +360,8 @@ fn fill(filled: &mut [u16], h: Run, value: u16) {
     }
 }
 
-/// A hole with valid pixels on both sides.
+/// A hole with valid pixels on both sides; `rows` are the raw rows above and below (empty at the
+/// frame's edges).
 #[allow(clippy::too_many_arguments)]
 fn classify_bounded(
     p: &ScanParams,
@@ -363,6 +370,7 @@ fn classify_bounded(
     sa: Bound,
     sb: Bound,
     far: u16,
+    rows: [&[u16]; 2],
     labels: &mut [u8],
     filled: &mut [u16],
 ) {
@@ -375,9 +383,27 @@ fn classify_bounded(
         beyond_range(raw, h, far, labels);
         return;
     }
-    if let Some(code) = detached(p, raw, h, sa, sb) {
-        set(labels, raw, h.start, h.end, code);
+    match detached(p, raw, h, sa, sb, rows) {
+        Detached::No => {}
+        Detached::Measured => set(labels, raw, h.start, h.end, DETACHED),
+        Detached::Depthless { occluder, raw: at } => {
+            set(labels, raw, h.start, h.end, DETACHED);
+            // The occluder's hole is warped at the depth its shadow implies, so the RGB view
+            // sees it where it stands and finds its alignment shadow; `fill` never overwrites.
+            fill(filled, occluder, at);
+        }
     }
+}
+
+/// Outcome of [`detached`].
+enum Detached {
+    /// Not a detached shadow.
+    No,
+    /// Cast by a measured occluder [Fa, Fb] (eqs. 4–5).
+    Measured,
+    /// Cast by an occluder with no depth of its own (black or glossy), seen as the hole
+    /// `occluder` whose depth the shift implies (`raw`).
+    Depthless { occluder: Run, raw: u16 },
 }
 
 /// True when Sb continues the surface of Sa across the hole (a hole on a slanted surface rising
@@ -436,7 +462,14 @@ fn beyond_range(raw: &[u16], h: Run, far: u16, labels: &mut [u8]) {
 
 /// Detached test, eqs. (4)–(5): look right of the hole for a nearer run [Fa, Fb] whose edges,
 /// shifted by their disparity relative to Sa and Sb, land on the hole's edges.
-fn detached(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> Option<u8> {
+fn detached(
+    p: &ScanParams,
+    raw: &[u16],
+    h: Run,
+    sa: Bound,
+    sb: Bound,
+    rows: [&[u16]; 2],
+) -> Detached {
     let n = raw.len();
     let d_sa = p.disp(sa.far);
     let d_sb = p.disp(sb.far);
@@ -466,10 +499,12 @@ fn detached(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> Option
         }
         let r = raw[u];
         if r == NO_DEPTH {
-            // Small dropouts in the lit gap are fine; a large hole ends the search.
+            // Small dropouts in the lit gap are fine; a large hole ends the search, unless it is
+            // an occluder without depth that cast this hole.
             gap_holes += 1;
             if gap_holes > 2 {
-                return None;
+                let start = u + 1 - gap_holes;
+                return depthless_occluder(p, raw, h, start, d_bg, rows);
             }
             u += 1;
             continue;
@@ -490,13 +525,130 @@ fn detached(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> Option
             let e5 = (fb as f32 - h.end as f32) - (d_fb - d_sb);
             // Pixel sampling puts e4 at about +1 and e5 at about −1 for an ideal shadow.
             if (e4 - 1.0).abs() <= p.tol && (e5 + 1.0).abs() <= p.tol {
-                return Some(DETACHED);
+                return Detached::Measured;
             }
-            return None;
+            return Detached::No;
         }
         u += 1;
     }
-    None
+    Detached::No
+}
+
+/// Eqs. (4)–(5) for an occluder that returns no depth (black, glossy): its shadow on a plane
+/// is its own image shifted left by `w = disp(occluder) − disp(background)`, so the hole `h` is
+/// its detached shadow when a hole of the same width (plus the sensor's widening), on the same
+/// background, starts at `start` right of it, and the shift puts the occluder within the
+/// sensor's range. Nothing else in the row tells this pair from two chance dropouts, so the rows
+/// above and below (`rows`) must both repeat it with the same shift: an occluder is a solid.
+fn depthless_occluder(
+    p: &ScanParams,
+    raw: &[u16],
+    h: Run,
+    start: usize,
+    d_bg: f32,
+    rows: [&[u16]; 2],
+) -> Detached {
+    let Some((shift, occluder)) = hole_pair(p, raw, h, start, d_bg) else {
+        return Detached::No;
+    };
+    // Several such holes in a row (two black rods: shadow, shadow, rod, rod) chain up, and
+    // nothing in the depth map says which pairs belong together: when the hole left of `h`
+    // pairs with `h`, or the occluder pairs with the hole after it, none is labelled.
+    let reach = (p.max_disp - d_bg).max(0.0) as usize + 2;
+    let chained_left = hole_before(raw, h.start, reach)
+        .is_some_and(|before| hole_pair(p, raw, before, h.start, d_bg).is_some());
+    let chained_right = hole_after(raw, occluder.end, reach)
+        .is_some_and(|after| hole_pair(p, raw, occluder, after, d_bg).is_some());
+    if chained_left || chained_right {
+        return Detached::No;
+    }
+    let repeats = |row: &[u16]| {
+        // The same pair in a neighbouring row: holes through both centres, shifted alike.
+        let (Some(s), Some(o)) = (
+            hole_around(row, (h.start + h.end) / 2),
+            hole_around(row, (occluder.start + occluder.end) / 2),
+        ) else {
+            return false;
+        };
+        s.end < o.start
+            && hole_pair(p, row, s, o.start, d_bg).is_some_and(|(w, _)| (w - shift).abs() <= 2.0)
+    };
+    if !rows.iter().all(|row| repeats(row)) {
+        return Detached::No;
+    }
+    let d_occ = d_bg + shift;
+    let at = (p.den - d_occ / p.k)
+        .round()
+        .clamp(0.0, f32::from(NO_DEPTH - 1)) as u16;
+    Detached::Depthless { occluder, raw: at }
+}
+
+/// The geometric test of [`depthless_occluder`] in one row: the hole from `start` to the next
+/// valid pixel is a candidate occluder for shadow `h`. Returns the shift (pixels) and the hole.
+fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Option<(f32, Run)> {
+    const MIN_WIDTH: usize = 3;
+    let n = raw.len();
+    let end = raw[start..]
+        .iter()
+        .position(|&r| r != NO_DEPTH)
+        .map_or(n, |k| start + k);
+    // Both holes lie on the same background: lit pixels of its depth on either side of each.
+    let background = |u: usize| {
+        let r = raw[u];
+        r != NO_DEPTH && (p.disp(r) - d_bg).abs() < 2.0 * p.min_step
+    };
+    if h.start == 0 || end >= n || end - start < MIN_WIDTH {
+        return None;
+    }
+    if !(background(h.start - 1) && background(h.end) && background(start - 1) && background(end)) {
+        return None;
+    }
+    // Widening only ever adds to the shadow (up to `over`); one pixel of sampling either way.
+    let (shadow_w, occluder_w) = ((h.end - h.start) as f32, (end - start) as f32);
+    if shadow_w < occluder_w - 1.0 || shadow_w > occluder_w + p.over {
+        return None;
+    }
+    // The shadow's right edge is the occluder's, shifted (plus up to 2 px of widening); the
+    // implied occluder must lie within the sensor's range.
+    let shift = (end - h.end) as f32;
+    (d_bg + shift <= p.max_disp).then_some((shift, Run { start, end }))
+}
+
+/// The hole run that ends at most `reach` pixels left of `start`, with only valid pixels between.
+fn hole_before(raw: &[u16], start: usize, reach: usize) -> Option<Run> {
+    let lo = start.saturating_sub(reach);
+    let end = raw[lo..start].iter().rposition(|&r| r == NO_DEPTH)? + lo + 1;
+    let first = raw[..end]
+        .iter()
+        .rposition(|&r| r != NO_DEPTH)
+        .map_or(0, |k| k + 1);
+    Some(Run { start: first, end })
+}
+
+/// The start of the first hole at most `reach` pixels right of `end`, with only valid pixels
+/// between.
+fn hole_after(raw: &[u16], end: usize, reach: usize) -> Option<usize> {
+    let hi = (end + reach).min(raw.len());
+    raw[end..hi]
+        .iter()
+        .position(|&r| r == NO_DEPTH)
+        .map(|k| end + k)
+}
+
+/// The hole run of `row` containing column `u` or a neighbour of it, if any.
+fn hole_around(row: &[u16], u: usize) -> Option<Run> {
+    let u = [u, u.saturating_sub(1), u + 1]
+        .into_iter()
+        .find(|&k| row.get(k) == Some(&NO_DEPTH))?;
+    let start = row[..u]
+        .iter()
+        .rposition(|&r| r != NO_DEPTH)
+        .map_or(0, |k| k + 1);
+    let end = row[u..]
+        .iter()
+        .position(|&r| r != NO_DEPTH)
+        .map_or(row.len(), |k| u + k);
+    Some(Run { start, end })
 }
 
 /// A hole touching the left border: Sa is outside the image, so the background the shadow falls
@@ -589,6 +741,91 @@ mod tests {
         c.raw_from_depth(z).round() as u16
     }
 
+    /// Classifies the middle one of three rows (above, row, below); labels and filled values.
+    fn run_with_neighbours(above: &[u16], row: &[u16], below: &[u16]) -> (Vec<u8>, Vec<u16>) {
+        let (_, p) = params();
+        let mut labels = vec![ALIGNMENT; row.len()];
+        let mut filled = vec![0; row.len()];
+        classify_row(
+            &p,
+            row,
+            &[NO_DEPTH; WIDTH],
+            above,
+            below,
+            2046,
+            &mut labels,
+            &mut filled,
+        );
+        (labels, filled)
+    }
+
+    /// A wall at 3 m with holes `[a, b)` (no depth).
+    fn wall_with_holes(c: &Calibration, holes: &[(usize, usize)]) -> Vec<u16> {
+        let mut row = vec![raw_at(c, 3.0); WIDTH];
+        for &(a, b) in holes {
+            row[a..b].fill(NO_DEPTH);
+        }
+        row
+    }
+
+    #[test]
+    fn depthless_rod_gets_its_detached_shadow_and_the_depth_the_shift_implies() {
+        // A black rod at 1 m before a wall at 3 m returns no depth: its 8 px hole at [300, 308)
+        // and its shadow, the same 8 px shifted left by w = f·b·(1/1 − 1/3) = 29.1 px, plus 2 px
+        // of the sensor's widening: [270, 279).
+        let (c, _) = params();
+        let row = wall_with_holes(&c, &[(270, 279), (300, 308)]);
+        let (labels, filled) = run_with_neighbours(&row, &row, &row);
+        assert!(
+            labels[270..279].iter().all(|&l| l == DETACHED),
+            "{:?}",
+            &labels[265..312]
+        );
+        assert!(
+            labels[300..308].iter().all(|&l| l == OTHER),
+            "the rod itself is a hole"
+        );
+        // The rod is warped at the depth of a 29 px shift: 1/(1/3 + 29/(f·b)) ≈ 1.00 m.
+        let z = c.depth_m(filled[303]).unwrap();
+        assert!((z - 1.0).abs() < 0.03, "rod placed at {z:.3} m");
+        // The lit wall and the shadow stay at the wall's depth.
+        assert_eq!(filled[275], raw_at(&c, 3.0));
+    }
+
+    #[test]
+    fn depthless_pair_needs_the_rows_above_and_below() {
+        // The same pair in one row only (chance dropouts): nothing is a shadow.
+        let (c, _) = params();
+        let row = wall_with_holes(&c, &[(270, 279), (300, 308)]);
+        let plain = wall_with_holes(&c, &[]);
+        for (above, below) in [(&plain, &row), (&row, &plain)] {
+            let (labels, _) = run_with_neighbours(above, &row, below);
+            assert!(labels[270..308].iter().all(|&l| l != DETACHED));
+        }
+        // Holes of different widths are no occluder-and-shadow pair either.
+        let row = wall_with_holes(&c, &[(270, 290), (300, 308)]);
+        let (labels, _) = run_with_neighbours(&row, &row, &row);
+        assert!(labels[270..308].iter().all(|&l| l != DETACHED));
+        // Nor a shift beyond the sensor's range: an occluder nearer than ~0.4 m.
+        let row = wall_with_holes(&c, &[(200, 208), (300, 308)]);
+        let (labels, _) = run_with_neighbours(&row, &row, &row);
+        assert!(labels[200..308].iter().all(|&l| l != DETACHED));
+    }
+
+    #[test]
+    fn chained_depthless_pairs_are_left_alone() {
+        // Two black rods whose shadows interleave (shadow, shadow, rod, rod): which shadow goes
+        // with which rod is ambiguous in depth alone, so none is labelled (precision first).
+        let (c, _) = params();
+        let row = wall_with_holes(&c, &[(262, 270), (274, 282), (291, 299), (303, 311)]);
+        let (labels, _) = run_with_neighbours(&row, &row, &row);
+        assert!(
+            labels[255..315].iter().all(|&l| l != DETACHED),
+            "{:?}",
+            &labels[255..315]
+        );
+    }
+
     fn run(row: &[u16]) -> Vec<u8> {
         let (_, p) = params();
         let mut labels = vec![ALIGNMENT; row.len()];
@@ -597,6 +834,7 @@ mod tests {
             &p,
             row,
             &[NO_DEPTH; WIDTH],
+            &[],
             &[],
             2046,
             &mut labels,
@@ -728,6 +966,7 @@ mod tests {
             &row,
             &[NO_DEPTH; WIDTH],
             &[],
+            &[],
             far,
             &mut labels,
             &mut filled,
@@ -752,6 +991,7 @@ mod tests {
             &level,
             &[NO_DEPTH; WIDTH],
             &[],
+            &[],
             1014,
             &mut labels,
             &mut filled,
@@ -772,6 +1012,7 @@ mod tests {
             &p,
             &row,
             &[NO_DEPTH; WIDTH],
+            &[],
             &[],
             900,
             &mut labels,
@@ -825,6 +1066,7 @@ mod tests {
             &row,
             &[wall; WIDTH],
             &[],
+            &[],
             2046,
             &mut labels,
             &mut filled,
@@ -837,6 +1079,7 @@ mod tests {
             &p,
             &row,
             &[NO_DEPTH; WIDTH],
+            &[],
             &[],
             2046,
             &mut labels,
@@ -865,6 +1108,7 @@ mod tests {
             &p,
             &row,
             &[raw_at(&c, 1.45); WIDTH],
+            &[],
             &[],
             2046,
             &mut labels,
