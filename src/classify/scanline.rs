@@ -379,7 +379,7 @@ fn classify_bounded(
     // Eq. (3): the attached shadow of Sb on the surface of Sa is w = disp(Sb) − disp(Sa) wide.
     let w = p.disp(sb.near) - p.disp(sa.far);
     if w >= p.min_step && !same_surface(p, raw, h, sa, sb) {
-        label_attached(p, raw, h, w, labels);
+        label_attached(p, raw, h, w, rows, labels);
         beyond_range(raw, h, far, labels);
         return;
     }
@@ -423,10 +423,66 @@ fn same_surface(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> bo
 /// Labels an attached shadow of predicted width `w` ending at the occluder (`h.end`). A hole much
 /// wider than eq. (3) allows is not one shadow: most often the shadow falls on a surface that is a
 /// hole anyway (beyond range, black, glossy), which is OTHER by definition (SPEC §1).
-fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, labels: &mut [u8]) {
+fn label_attached(
+    p: &ScanParams,
+    raw: &[u16],
+    h: Run,
+    w: f32,
+    rows: [&[u16]; 2],
+    labels: &mut [u8],
+) {
     if (h.end - h.start) as f32 <= w + p.over {
-        set(labels, raw, h.start, h.end, ATTACHED);
+        let code = if thin_occluder(p, raw, h.end, w, rows) {
+            DETACHED
+        } else {
+            ATTACHED
+        };
+        set(labels, raw, h.start, h.end, code);
     }
+}
+
+/// True when the occluder starting at `sb` is narrower than its shadow's shift `w`, with the
+/// background it stands before visible right of it: then the projector saw the background
+/// between shadow and occluder (eqs. 4–5), so the shadow is detached, and the hole touches the
+/// occluder only because the sensor's widening swallowed that lit gap. The widening also eats
+/// 0–3 px of the occluder's left edge, a different amount in each row, so the occluder's width
+/// is the widest run of this row and the rows above and below (`rows`).
+fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: [&[u16]; 2]) -> bool {
+    // Narrower by at least this much (pixels), against depth noise in `w`.
+    const MARGIN: f32 = 1.0;
+    let d_occ = p.disp(raw[sb]);
+    let Some(end) = occluder_end(p, raw, sb, d_occ, w) else {
+        return false; // at least as wide as the shift: attached
+    };
+    if (end - sb) as f32 + MARGIN >= w
+        || raw[end] == NO_DEPTH
+        || d_occ - p.disp(raw[end]) <= w - 2.0 * p.min_step
+    {
+        return false;
+    }
+    // In a neighbouring row the occluder starts within a few pixels of `sb`.
+    rows.iter().all(|row| {
+        let lo = sb.saturating_sub(3).min(row.len());
+        let hi = (sb + 4).min(row.len());
+        let Some(k) = row[lo..hi]
+            .iter()
+            .position(|&r| r != NO_DEPTH && p.disp(r) >= d_occ - w / 2.0)
+        else {
+            return true; // no occluder there: this row has no say
+        };
+        let start = lo + k;
+        occluder_end(p, row, start, d_occ, w).is_some_and(|end| ((end - start) as f32) + MARGIN < w)
+    })
+}
+
+/// End of the occluder's run that starts at `start` (at disparity `d_occ`): the first hole or
+/// step back by half the shift `w`; `None` when the run is longer than `w`.
+fn occluder_end(p: &ScanParams, row: &[u16], start: usize, d_occ: f32, w: f32) -> Option<usize> {
+    let limit = (start + w as usize + 1).min(row.len() - 1);
+    row[start..=limit]
+        .iter()
+        .position(|&r| r == NO_DEPTH || p.disp(r) < d_occ - w / 2.0)
+        .map(|k| start + k)
 }
 
 /// A shadow falling on a surface that recedes past the sensor's range would be a hole even if
@@ -691,7 +747,14 @@ fn classify_left_border(
     fill(filled, h, bg.max(sb.far));
     let w = p.disp(sb.near) - p.disp(bg);
     if w >= p.min_step {
-        label_attached(p, raw, h, w, labels);
+        label_attached(
+            p,
+            raw,
+            h,
+            w,
+            [&below[..below.len().min(raw.len())], &[]],
+            labels,
+        );
     }
 }
 
@@ -876,6 +939,32 @@ mod tests {
             );
             assert!(l[..start].iter().chain(&l[edge..]).all(|&x| x == VALID));
         }
+    }
+
+    #[test]
+    fn widening_that_closes_a_thin_occluders_gap_leaves_its_shadow_detached() {
+        // Rod at 1 m before a wall at 3 m: shift w = f·b·(1 − 1/3) = 29.1 px. A 27 px rod at
+        // [300, 327) casts its shadow on [271, 298); the 2 px lit gap [298, 300) is swallowed by
+        // the sensor's widening, so the hole [269, 300) touches the rod. The rod is narrower
+        // than w: the projector saw the wall there, so detached (eqs. 4–5), not attached.
+        let (c, _) = params();
+        let mut row = vec![raw_at(&c, 3.0); WIDTH];
+        row[300..327].fill(raw_at(&c, 1.0));
+        row[269..300].fill(NO_DEPTH);
+        let labels = run(&row);
+        assert!(
+            labels[269..300].iter().all(|&l| l == DETACHED),
+            "{:?}",
+            &labels[265..330]
+        );
+        // A 40 px box (wider than w) with the same hole: attached.
+        row[300..340].fill(raw_at(&c, 1.0));
+        let labels = run(&row);
+        assert!(
+            labels[269..300].iter().all(|&l| l == ATTACHED),
+            "{:?}",
+            &labels[265..345]
+        );
     }
 
     #[test]
