@@ -76,8 +76,7 @@ impl<'a> Tracer<'a> {
     fn any(&self, o: &V3, d: &V3, tmin: f64, tmax: f64) -> bool {
         let inv = d.map(|x| 1.0 / x);
         self.shapes.iter().zip(&self.bounds).any(|(s, b)| {
-            b.is_none_or(|b| b.hit(o, &inv, tmin, tmax))
-                && s.intersect(o, d, tmin, tmax).is_some()
+            b.is_none_or(|b| b.hit(o, &inv, tmin, tmax)) && s.intersect(o, d, tmin, tmax).is_some()
         })
     }
 }
