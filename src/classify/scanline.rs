@@ -395,6 +395,9 @@ fn classify_bounded(
     }
 }
 
+/// Narrowest hole (pixels) taken for an occluder without depth: narrower ones are dropouts.
+const MIN_DEPTHLESS_WIDTH: usize = 3;
+
 /// Outcome of [`detached`].
 enum Detached {
     /// Not a detached shadow.
@@ -479,9 +482,14 @@ fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: [&[u16]; 
 /// step back by half the shift `w`; `None` when the run is longer than `w`.
 fn occluder_end(p: &ScanParams, row: &[u16], start: usize, d_occ: f32, w: f32) -> Option<usize> {
     let limit = (start + w as usize + 1).min(row.len() - 1);
+    // disp(r) < d_occ − w/2  ⇔  r > past (disparity falls as raw grows); holes (2047) are always
+    // past it, so one integer compare per pixel.
+    let past = (p.den - (d_occ - w / 2.0) / p.k)
+        .floor()
+        .clamp(0.0, f32::from(NO_DEPTH - 1)) as u16;
     row[start..=limit]
         .iter()
-        .position(|&r| r == NO_DEPTH || p.disp(r) < d_occ - w / 2.0)
+        .position(|&r| r > past)
         .map(|k| start + k)
 }
 
@@ -559,6 +567,10 @@ fn detached(
             // an occluder without depth that cast this hole.
             gap_holes += 1;
             if gap_holes > 2 {
+                // A hole narrower than a depthless occluder's smallest shadow ends it here.
+                if h.end - h.start + 1 < MIN_DEPTHLESS_WIDTH {
+                    return Detached::No;
+                }
                 let start = u + 1 - gap_holes;
                 return depthless_occluder(p, raw, h, start, d_bg, rows);
             }
@@ -642,7 +654,6 @@ fn depthless_occluder(
 /// The geometric test of [`depthless_occluder`] in one row: the hole from `start` to the next
 /// valid pixel is a candidate occluder for shadow `h`. Returns the shift (pixels) and the hole.
 fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Option<(f32, Run)> {
-    const MIN_WIDTH: usize = 3;
     let n = raw.len();
     let end = raw[start..]
         .iter()
@@ -653,7 +664,7 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
         let r = raw[u];
         r != NO_DEPTH && (p.disp(r) - d_bg).abs() < 2.0 * p.min_step
     };
-    if h.start == 0 || end >= n || end - start < MIN_WIDTH {
+    if h.start == 0 || end >= n || end - start < MIN_DEPTHLESS_WIDTH {
         return None;
     }
     if !(background(h.start - 1) && background(h.end) && background(start - 1) && background(end)) {
