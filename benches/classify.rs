@@ -53,17 +53,19 @@ fn busy_frame(c: &Calibration) -> Vec<u16> {
     f
 }
 
-/// A recording's first frame and calibration, if the folder exists.
-fn recorded(dir: &str) -> Option<(Vec<u16>, Calibration)> {
+/// A recording's first frame (depth, and RGB when paired) and calibration, if the folder exists.
+fn recorded(dir: &str) -> Option<(Vec<u16>, Option<Vec<u8>>, Calibration)> {
     let rec = umbra::recording::Recording::open(std::path::Path::new(dir)).ok()?;
     let mut raw = vec![0u16; PIXELS];
     rec.read_depth(0, &mut raw).ok()?;
-    Some((raw, *rec.calibration()))
+    let mut rgb = vec![0u8; 3 * PIXELS];
+    let has_rgb = rec.read_rgb(0, &mut rgb).ok()?;
+    Some((raw, has_rgb.then_some(rgb), *rec.calibration()))
 }
 
 fn bench(c: &mut Criterion) {
     let calib = Calibration::nyu_default();
-    let mut frames = vec![("synthetic_busy", busy_frame(&calib), calib)];
+    let mut frames = vec![("synthetic_busy", busy_frame(&calib), None, calib)];
     let root = env!("CARGO_MANIFEST_DIR");
     // The bundled simulated room, and the real NYU frame when the shared data is beside the repo.
     for (name, dir) in [
@@ -73,8 +75,8 @@ fn bench(c: &mut Criterion) {
             format!("{root}/../shared/data/nyu-basement"),
         ),
     ] {
-        if let Some((raw, cal)) = recorded(&dir) {
-            frames.push((name, raw, cal));
+        if let Some((raw, rgb, cal)) = recorded(&dir) {
+            frames.push((name, raw, rgb, cal));
         }
     }
     let mut g = c.benchmark_group("frame_640x480");
@@ -82,11 +84,13 @@ fn bench(c: &mut Criterion) {
     g.bench_function("plain_copy", |b| {
         b.iter(|| copy.copy_from_slice(black_box(&frames[0].1)))
     });
-    for (name, frame, cal) in &frames {
+    for (name, frame, rgb, cal) in &frames {
         let mut classifier = Classifier::new(cal);
         let mut out = Classified::default();
+        // The whole classifier as the daemon runs it: with the paired RGB image when there is one
+        // (the colour split of depthless occluders' shadows).
         g.bench_function(format!("classify_ir_align_rgb/{name}"), |b| {
-            b.iter(|| classifier.classify(black_box(frame), &mut out))
+            b.iter(|| classifier.classify_with_rgb(black_box(frame), rgb.as_deref(), &mut out))
         });
         let scan = umbra::classify::scanline::ScanParams::new(cal, &Default::default());
         let mut filled = vec![0u16; PIXELS];

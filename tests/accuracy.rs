@@ -151,6 +151,94 @@ fn black_rod_without_depth_still_casts_a_detached_shadow() {
     assert!(any.precision.unwrap() >= 0.98, "IR any shadow {any:?}");
 }
 
+/// Classifies with the frame's RGB image (the colour split of depthless occluders' shadows).
+fn classify_rgb(calib: &Calibration, frame: &SynthFrame) -> Classified {
+    let mut out = Classified::default();
+    Classifier::new(calib).classify_with_rgb(&frame.raw, Some(&frame.rgb), &mut out);
+    out
+}
+
+#[test]
+fn black_box_shadow_is_split_off_its_hole_by_colour() {
+    // The box of the hand-computed scene, but black: no depth on it, so box and shadow are one
+    // hole with the wall on both sides. By hand its shadow is still f·b·(1/1 − 1/3) = 29.1 px
+    // wide, and the RGB image shows wall there and the black box next to it.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::box_before_wall(1.0, 3.0);
+    scene.objects[1].material = umbra::synth::Material::black();
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 4);
+    let depth_only = classify(&calib, &frame);
+    let out = classify_rgb(&calib, &frame);
+    let w = calib.fb() * (1.0 - 1.0 / 3.0);
+    let mut rows = 0;
+    for v in 0..HEIGHT {
+        let truth = count_in_row(&frame.ir_labels, v, ATTACHED);
+        let n = count_in_row(&out.ir_labels, v, ATTACHED);
+        if truth == 0 {
+            assert_eq!(n, 0, "row {v}: attached pixels where the box casts none");
+            continue;
+        }
+        assert_eq!(
+            count_in_row(&depth_only.ir_labels, v, ATTACHED),
+            0,
+            "depth alone cannot"
+        );
+        if n > 0 {
+            rows += 1;
+            assert!(
+                (n as f64 - w).abs() <= 2.0,
+                "row {v}: {n} attached px, hand-computed {w:.2}"
+            );
+        }
+    }
+    // Nearly all rows are split; near the box's top and bottom edges the RGB camera, which sits
+    // at another height, sees wall where the IR row has box, and those rows are left alone.
+    let box_rows = (0..HEIGHT)
+        .filter(|&v| count_in_row(&frame.ir_labels, v, ATTACHED) > 0)
+        .count();
+    assert!(10 * rows >= 9 * box_rows, "{rows} of {box_rows} rows split");
+    let mut c = Confusion::default();
+    c.add(&frame.rgb_labels, &out.rgb_labels);
+    // In the RGB view the box now stands at its implied depth: its alignment strip appears too.
+    at_least(&c, Some(ALIGNMENT), 0.8, "RGB alignment beside a black box");
+    at_least(&c, Some(ATTACHED), 0.9, "RGB attached of a black box");
+}
+
+#[test]
+fn colour_split_leaves_posters_alone() {
+    // A black poster and a pale glossy one on the wall: holes with no shadow in them (SPEC: OTHER
+    // even if lit). Neither has a background-coloured part that a shadow could be.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::box_before_wall(1.0, 3.0);
+    scene.objects.retain(|o| o.kind == "wall");
+    for (x, material) in [
+        (-0.5, umbra::synth::Material::black()),
+        (0.5, umbra::synth::Material::glossy([0.7, 0.75, 0.8])),
+    ] {
+        scene.push(
+            "poster",
+            umbra::synth::Shape::Box {
+                centre: umbra::synth::V3::new(x, 0.0, 2.99),
+                half: umbra::synth::V3::new(0.3, 0.3, 0.004),
+                yaw: 0.0,
+            },
+            material,
+        );
+    }
+    for seed in 0..2 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 50 + seed);
+        let out = classify_rgb(&calib, &frame);
+        assert!(out
+            .ir_labels
+            .iter()
+            .all(|&l| l != ATTACHED && l != DETACHED));
+        assert!(out
+            .rgb_labels
+            .iter()
+            .all(|&l| l != ATTACHED && l != DETACHED));
+    }
+}
+
 #[test]
 fn holes_without_depth_edge_are_never_shadows() {
     // A bare wall with the Kinect noise model: only speckle holes, all OTHER.

@@ -4,6 +4,7 @@
 //! Everything here is pure computation on caller-owned buffers: no I/O, no per-frame allocation.
 
 pub mod align;
+pub mod depthless;
 pub mod scanline;
 
 use crate::calib::Calibration;
@@ -59,6 +60,7 @@ impl Default for Classified {
 /// [`Classifier::classify`] never allocates.
 pub struct Classifier {
     scan: scanline::ScanParams,
+    colour: depthless::ColourSplit,
     warp: align::Warp,
     /// Raw values with holes filled by the depth they are assumed to lie at (for the warp).
     filled: Vec<u16>,
@@ -74,15 +76,27 @@ impl Classifier {
     pub fn with_params(calib: &Calibration, params: Params) -> Self {
         Classifier {
             scan: scanline::ScanParams::new(calib, &params),
+            colour: depthless::ColourSplit::new(calib),
             warp: align::Warp::new(calib),
             filled: vec![0; PIXELS],
         }
     }
 
-    /// Labels one raw 640×480 frame in both views.
+    /// Labels one raw 640×480 frame in both views, from depth alone.
     pub fn classify(&mut self, raw: &[u16], out: &mut Classified) {
+        self.classify_with_rgb(raw, None, out);
+    }
+
+    /// Labels one raw 640×480 frame in both views; with the paired RGB image (RGB8, 640·480·3),
+    /// also the attached shadows of occluders that return no depth ([`depthless`]).
+    pub fn classify_with_rgb(&mut self, raw: &[u16], rgb: Option<&[u8]>, out: &mut Classified) {
         assert_eq!(raw.len(), PIXELS, "a frame has 640x480 raw values");
         scanline::classify_frame(&self.scan, raw, &mut out.ir_labels, &mut self.filled);
+        if let Some(rgb) = rgb {
+            assert_eq!(rgb.len(), 3 * PIXELS, "an RGB image has 640x480x3 bytes");
+            self.colour
+                .apply(raw, rgb, &mut out.ir_labels, &mut self.filled);
+        }
         self.warp.apply(
             &self.filled,
             &out.ir_labels,

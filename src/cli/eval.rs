@@ -280,6 +280,7 @@ fn score(
     let mut classifier = Classifier::with_params(job.rec.calibration(), params);
     let mut out = Classified::default();
     let mut raw = vec![0u16; PIXELS];
+    let mut colour = vec![0u8; 3 * PIXELS];
     let (mut gt_ir, mut gt_rgb) = (vec![0u8; PIXELS], vec![0u8; PIXELS]);
     let mut tally = Tally::default();
     let mut shadow = SegTally::default();
@@ -300,7 +301,8 @@ fn score(
             }
         }
         job.rec.read_depth(i, &mut raw)?;
-        classifier.classify(&raw, &mut out);
+        let has_rgb = job.rec.read_rgb(i, &mut colour)?;
+        classifier.classify_with_rgb(&raw, has_rgb.then_some(&colour[..]), &mut out);
         tally.add_frame(&gt_ir, &out.ir_labels, &gt_rgb, &out.rgb_labels);
         if let Some(w) = seg.as_deref_mut() {
             w.frame(&job.name, i, &out, &mut shadow, &mut threshold);

@@ -50,7 +50,11 @@ pub fn run(a: Args) -> Result<()> {
     let mut rgb = vec![0u8; PIXELS * 3];
     let has_rgb = rec.read_rgb(a.frame, &mut rgb)?;
     let mut out = Classified::default();
-    Classifier::with_params(rec.calibration(), params).classify(&raw, &mut out);
+    Classifier::with_params(rec.calibration(), params).classify_with_rgb(
+        &raw,
+        has_rgb.then_some(&rgb[..]),
+        &mut out,
+    );
     let img = render_panels(has_rgb.then_some(&rgb[..]), &raw, rec.calibration(), &out);
 
     let mut png = Vec::new();

@@ -113,7 +113,7 @@ pub fn run(a: Args) -> Result<()> {
                 format!("depth frame {i} has no RGB frame to segment (expected r-*.ppm lines)"),
             ));
         }
-        classifier.classify(&raw, &mut classified);
+        classifier.classify_with_rgb(&raw, Some(&rgb), &mut classified);
         let t = Instant::now();
         let out = segmenter.segment(&rgb, &classified, &mut mask);
         seg_time += t.elapsed().as_secs_f64();

@@ -267,8 +267,14 @@ fn classify_stage(
                 if let Some(r) = f.received {
                     tel.queue_latency.record(t.saturating_duration_since(r));
                 }
-                let Frame { depth, labels, .. } = f.as_mut();
-                classifier.classify(depth, labels);
+                let Frame {
+                    depth,
+                    rgb,
+                    has_rgb,
+                    labels,
+                    ..
+                } = f.as_mut();
+                classifier.classify_with_rgb(depth, has_rgb.then_some(&rgb[..]), labels);
                 let took = t.elapsed();
                 tel.classify_latency.record(took);
                 busy += took;
