@@ -198,6 +198,20 @@ impl ColourSplit {
         v: usize,
         c: Candidate,
     ) -> Option<usize> {
+        // Depth first (the raw rows are in cache, the RGB image often is not): the rows above and
+        // below must hold a candidate hole through the same middle column.
+        let mid = (c.a + c.b) / 2;
+        let hole_there = |w: usize| {
+            let row = &raw[w * WIDTH..(w + 1) * WIDTH];
+            if row[mid] != NO_DEPTH {
+                return false;
+            }
+            let (a, b) = hole_span(row, mid);
+            self.candidate(raw, labels, w, a, b, w < v).is_some()
+        };
+        if !(hole_there(v - 1) && hole_there(v + 1)) {
+            return None;
+        }
         let s = self.split(rgb, v, c)?;
         let mid = (c.a + c.b) / 2;
         let agrees = |w: usize| {
