@@ -201,30 +201,21 @@ impl ColourSplit {
         // Depth first (the raw rows are in cache, the RGB image often is not): the rows above and
         // below must hold a candidate hole through the same middle column.
         let mid = (c.a + c.b) / 2;
-        let hole_there = |w: usize| {
+        let neighbour = |w: usize| {
             let row = &raw[w * WIDTH..(w + 1) * WIDTH];
             if row[mid] != NO_DEPTH {
-                return false;
+                return None;
             }
             let (a, b) = hole_span(row, mid);
-            self.candidate(raw, labels, w, a, b, w < v).is_some()
-        };
-        if !(hole_there(v - 1) && hole_there(v + 1)) {
-            return None;
-        }
-        let s = self.split(rgb, v, c)?;
-        let mid = (c.a + c.b) / 2;
-        let agrees = |w: usize| {
-            let row = w * WIDTH;
-            if raw[row + mid] != NO_DEPTH {
-                return false;
-            }
-            let (a, b) = hole_span(&raw[row..row + WIDTH], mid);
             self.candidate(raw, labels, w, a, b, w < v)
-                .and_then(|n| self.split(rgb, w, n))
+        };
+        let (above, below) = (neighbour(v - 1)?, neighbour(v + 1)?);
+        let s = self.split(rgb, v, c)?;
+        let agrees = |w: usize, n: Candidate| {
+            self.split(rgb, w, n)
                 .is_some_and(|t| t.abs_diff(s) <= ROWS_AGREE)
         };
-        (agrees(v - 1) && agrees(v + 1)).then_some(s)
+        (agrees(v - 1, above) && agrees(v + 1, below)).then_some(s)
     }
 
     /// RGB column and row of IR pixel (`u`, `v`) at raw value `raw` (one division).

@@ -901,19 +901,7 @@ mod tests {
     }
 
     fn run(row: &[u16]) -> Vec<u8> {
-        let (_, p) = params();
-        let mut labels = vec![ALIGNMENT; row.len()];
-        let mut filled = vec![0; row.len()];
-        classify_row(
-            &p,
-            row,
-            &[NO_DEPTH; WIDTH],
-            &[],
-            &[],
-            2046,
-            &mut labels,
-            &mut filled,
-        );
+        let (labels, filled) = run_with_neighbours(&[], row, &[]);
         assert!(
             filled.iter().all(|&f| f < NO_DEPTH),
             "every hole gets an assumed depth"
