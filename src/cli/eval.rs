@@ -74,7 +74,6 @@ struct SegWork {
     pairs: Vec<(f32, f32)>,
     shadow: Segmenter,
     workers: Vec<Segmenter>,
-    rgb: Vec<u8>,
     gt: Vec<u8>,
     mask: Vec<u8>,
 }
@@ -90,22 +89,24 @@ impl SegWork {
                 .map(|_| Segmenter::new(SegParams::default()))
                 .collect(),
             pairs,
-            rgb: vec![0; 3 * PIXELS],
             gt: vec![0; PIXELS],
             mask: vec![0; PIXELS],
         }
     }
 
-    /// Segments one frame with shadow seeds and every threshold pair; adds to the tallies.
+    /// Segments one frame (its RGB image `rgb`) with shadow seeds and every threshold pair; adds
+    /// to the tallies.
+    #[allow(clippy::too_many_arguments)]
     fn frame(
         &mut self,
         name: &str,
         i: usize,
+        rgb: &[u8],
         classified: &Classified,
         shadow: &mut SegTally,
         threshold: &mut [SegTally],
     ) {
-        self.shadow.segment(&self.rgb, classified, &mut self.mask);
+        self.shadow.segment(rgb, classified, &mut self.mask);
         let mut one = SegTally::default();
         one.add_frame(&self.gt, &self.mask, self.shadow.seeds(), FG, BG);
         tracing::info!(
@@ -116,7 +117,7 @@ impl SegWork {
         );
         shadow.merge(&one);
         let n = self.workers.len();
-        let (rgb, gt, pairs) = (&self.rgb, &self.gt, &self.pairs);
+        let (gt, pairs) = (&self.gt, &self.pairs);
         std::thread::scope(|scope| {
             let handles: Vec<_> = self
                 .workers
@@ -291,21 +292,22 @@ fn score(
         read_label_png(&gt_path(&job.gt, i, "rgb"), &mut gt_rgb)?;
         if let Some(w) = seg.as_deref_mut() {
             read_mask_png(&mask_path(&job.gt, i), &mut w.gt)?;
-            if !job.rec.read_rgb(i, &mut w.rgb)? {
-                let index = job.rec.dir().join("INDEX.txt");
-                return Err(Error::input(
-                    index,
-                    "",
-                    format!("depth frame {i} has no RGB frame to segment (expected r-*.ppm lines)"),
-                ));
-            }
+        }
+        // One read serves the classifier's colour split and the segmenter.
+        let has_rgb = job.rec.read_rgb(i, &mut colour)?;
+        if seg.is_some() && !has_rgb {
+            let index = job.rec.dir().join("INDEX.txt");
+            return Err(Error::input(
+                index,
+                "",
+                format!("depth frame {i} has no RGB frame to segment (expected r-*.ppm lines)"),
+            ));
         }
         job.rec.read_depth(i, &mut raw)?;
-        let has_rgb = job.rec.read_rgb(i, &mut colour)?;
         classifier.classify_with_rgb(&raw, has_rgb.then_some(&colour[..]), &mut out);
         tally.add_frame(&gt_ir, &out.ir_labels, &gt_rgb, &out.rgb_labels);
         if let Some(w) = seg.as_deref_mut() {
-            w.frame(&job.name, i, &out, &mut shadow, &mut threshold);
+            w.frame(&job.name, i, &colour, &out, &mut shadow, &mut threshold);
         }
         if let Some(dir) = &job.export {
             write_label_png(&gt_path(dir, i, "depth"), &out.ir_labels)?;
