@@ -27,6 +27,10 @@ const SIDES_AGREE: u32 = 45;
 const MAX_ISLAND: usize = 2;
 /// Shadow widths of neighbouring rows may differ by this much (pixels).
 const ROWS_AGREE: usize = 3;
+/// Narrowest open hole at the right border considered (pixels), wider than the sensor's dead band.
+const MIN_BORDER_HOLE: usize = 32;
+/// RGB columns of occluder scored after the shadow of a hole that is not closed by background.
+const OPEN_WINDOW: usize = 8;
 
 /// Per-calibration constants for the colour split.
 #[derive(Clone, Debug)]
@@ -46,6 +50,16 @@ pub struct ColourSplit {
     /// RGB focal lengths and principal point.
     rgb_f: [f64; 2],
     rgb_c: [f64; 2],
+    /// Scratch for [`ColourSplit::split`], reused so that nothing is zeroed or allocated per hole.
+    prefix: Prefix,
+}
+
+/// Prefix sums over the RGB columns under a hole: columns that look like background, and their
+/// summed colour distance from it.
+#[derive(Clone, Debug, Default)]
+struct Prefix {
+    bg_count: Vec<u32>,
+    dist_sum: Vec<u32>,
 }
 
 /// How well one shadow width explains the RGB row under a hole.
@@ -68,6 +82,10 @@ struct Candidate {
     a: usize,
     b: usize,
     bg: u16,
+    /// The same background bounds the hole on the right too. Otherwise the hole runs on into
+    /// something else (another hole's labels, a second occluder, a slanted or farther surface,
+    /// the image border) and only its left part, shadow then occluder, can be tested.
+    closed: bool,
 }
 
 impl ColourSplit {
@@ -92,13 +110,18 @@ impl ColourSplit {
             t: [t.x, t.y, t.z],
             rgb_f: [calib.rgb.fx, calib.rgb.fy],
             rgb_c: [calib.rgb.cx, calib.rgb.cy],
+            prefix: Prefix {
+                bg_count: vec![0; WIDTH + 1],
+                dist_sum: vec![0; WIDTH + 1],
+            },
         }
     }
 
     /// Splits merged holes of frame `raw` (IR view) using the RGB image `rgb` (RGB8, 640·480):
     /// the shadow part becomes ATTACHED in `labels`, and the occluder part of `filled` is set to
     /// the raw value its shadow implies, so the warp puts it where it stands.
-    pub fn apply(&self, raw: &[u16], rgb: &[u8], labels: &mut [u8], filled: &mut [u16]) {
+    pub fn apply(&mut self, raw: &[u16], rgb: &[u8], labels: &mut [u8], filled: &mut [u16]) {
+        let mut prefix = std::mem::take(&mut self.prefix);
         for v in 1..HEIGHT - 1 {
             let row = &raw[v * WIDTH..(v + 1) * WIDTH];
             let mut u = SIDE;
@@ -124,7 +147,7 @@ impl ColourSplit {
                     continue;
                 }
                 if let Some(c) = self.candidate(raw, labels, v, u, b, false) {
-                    if let Some(s) = self.agreed_split(raw, rgb, labels, v, c) {
+                    if let Some(s) = self.agreed_split(raw, rgb, labels, v, c, &mut prefix) {
                         let at = self.raw_at_disp(self.disp(c.bg) + s as f64);
                         for u in c.a..c.b {
                             let i = v * WIDTH + u;
@@ -140,6 +163,13 @@ impl ColourSplit {
                 u = b.max(u + 1);
             }
         }
+        self.prefix = prefix;
+    }
+
+    /// The widest attached shadow on a background at `raw` (pixels): its occluder at the
+    /// nearest measurable depth.
+    fn widest(&self, raw: u16) -> usize {
+        (self.max_disp - self.disp(raw)).max(0.0) as usize
     }
 
     fn disp(&self, raw: u16) -> f64 {
@@ -147,14 +177,14 @@ impl ColourSplit {
     }
 
     fn raw_at_disp(&self, d: f64) -> u16 {
-        (self.den - d / self.k)
-            .round()
-            .clamp(0.0, f64::from(NO_DEPTH - 1)) as u16
+        round(self.den - d / self.k).clamp(0, i64::from(NO_DEPTH - 1)) as u16
     }
 
-    /// The hole `[a, b)` of row `v` as a candidate: all OTHER (or, in a row already split, OTHER
-    /// and ATTACHED), wide enough, inside the image, with measured pixels of one background
-    /// (within 2 px of disparity) on both sides.
+    /// The hole `[a, b)` of row `v` as a candidate: wide enough, inside the image, with a
+    /// measured background on its left; [`Candidate::closed`] when the same background (within
+    /// 2 px of disparity) bounds it on the right. Its pixels must be OTHER (or, in a row already
+    /// split, OTHER and ATTACHED); a hole that runs on into pixels the scanline labelled
+    /// otherwise is cut there and is open.
     fn candidate(
         &self,
         raw: &[u16],
@@ -165,27 +195,38 @@ impl ColourSplit {
         split_already: bool,
     ) -> Option<Candidate> {
         let row = v * WIDTH;
-        // Inside the image with room to sample both sides (a hole off the right border is as
-        // often the sensor's dead band there as an occluder straddling it).
-        if a < SIDE || b + SIDE > WIDTH || b - a < MIN_HOLE {
+        if a < SIDE || b - a < MIN_HOLE {
             return None;
         }
+        // The real sensor's dead band along the right border (about 25 px on the NYU frame) is an
+        // open hole in every row: only wider ones can hold an occluder's shadow and part of it.
+        if b == WIDTH && b - a < MIN_BORDER_HOLE {
+            return None;
+        }
+        let left = raw[row + a - 1];
+        // A hole off the right border is as often the sensor's dead band there as an occluder
+        // straddling it: only its left part is tested.
+        let same_right =
+            b + SIDE <= WIDTH && (self.disp(left) - self.disp(raw[row + b])).abs() <= 2.0;
+        // An open hole is read no further than its widest shadow and a window of occluder.
+        let reach = if same_right {
+            b
+        } else {
+            b.min(a + self.widest(left) + 2 * OPEN_WINDOW)
+        };
         let allowed = |l: u8| l == OTHER || (split_already && l == ATTACHED);
-        let holes = labels[row + a..row + b].iter().zip(&raw[row + a..row + b]);
-        if !holes
-            .filter(|(_, &r)| r == NO_DEPTH)
-            .all(|(&l, _)| allowed(l))
-        {
+        let cut = (a..reach)
+            .find(|&u| raw[row + u] == NO_DEPTH && !allowed(labels[row + u]))
+            .unwrap_or(reach);
+        if cut - a < MIN_HOLE {
             return None;
         }
-        let (left, right) = (raw[row + a - 1], raw[row + b]);
-        if (self.disp(left) - self.disp(right)).abs() > 2.0 {
-            return None;
-        }
+        let closed = same_right && cut == b;
         Some(Candidate {
             a,
-            b,
-            bg: left.max(right),
+            b: cut,
+            bg: if closed { left.max(raw[row + b]) } else { left },
+            closed,
         })
     }
 
@@ -197,10 +238,16 @@ impl ColourSplit {
         labels: &[u8],
         v: usize,
         c: Candidate,
+        prefix: &mut Prefix,
     ) -> Option<usize> {
         // Depth first (the raw rows are in cache, the RGB image often is not): the rows above and
-        // below must hold a candidate hole through the same middle column.
-        let mid = (c.a + c.b) / 2;
+        // below must hold a candidate hole through the same column (the middle of a closed hole,
+        // near the start of an open one, which may run on far past the occluder).
+        let mid = if c.closed {
+            (c.a + c.b) / 2
+        } else {
+            c.a + MIN_HOLE / 2
+        };
         let neighbour = |w: usize| {
             let row = &raw[w * WIDTH..(w + 1) * WIDTH];
             if row[mid] != NO_DEPTH {
@@ -210,9 +257,9 @@ impl ColourSplit {
             self.candidate(raw, labels, w, a, b, w < v)
         };
         let (above, below) = (neighbour(v - 1)?, neighbour(v + 1)?);
-        let s = self.split(rgb, v, c)?;
-        let agrees = |w: usize, n: Candidate| {
-            self.split(rgb, w, n)
+        let s = self.split(rgb, v, c, prefix)?;
+        let mut agrees = |w: usize, n: Candidate| {
+            self.split(rgb, w, n, prefix)
                 .is_some_and(|t| t.abs_diff(s) <= ROWS_AGREE)
         };
         (agrees(v - 1, above) && agrees(v + 1, below)).then_some(s)
@@ -232,10 +279,10 @@ impl ColourSplit {
 
     /// The shadow width whose layout (background, occluder, background) best explains the RGB row
     /// under the hole, when it explains nearly all of it and clearly better than no shadow.
-    fn split(&self, rgb: &[u8], v: usize, c: Candidate) -> Option<usize> {
+    fn split(&self, rgb: &[u8], v: usize, c: Candidate, prefix: &mut Prefix) -> Option<usize> {
         let colour = |x: f64, y: f64| -> Option<[i32; 3]> {
-            let (x, y) = (x.round(), y.round());
-            if x < 0.0 || y < 0.0 || x >= WIDTH as f64 || y >= HEIGHT as f64 {
+            let (x, y) = (round(x), round(y));
+            if x < 0 || y < 0 || x >= WIDTH as i64 || y >= HEIGHT as i64 {
                 return None;
             }
             let i = 3 * (y as usize * WIDTH + x as usize);
@@ -263,72 +310,140 @@ impl ColourSplit {
             colour(x, y)
         };
         let beside = probe(c.a - 2)?;
-        if dist(probe(c.b + 1)?, beside) > SIDES_AGREE
-            || dist(probe(c.a)?, beside) >= COLOUR_STEP
-            || (dist(probe((c.a + c.b) / 2)?, beside) < COLOUR_STEP
-                && dist(probe((c.a + 3 * c.b) / 4)?, beside) < COLOUR_STEP)
+        if dist(probe(c.a)?, beside) >= COLOUR_STEP
+            || (c.closed
+                && (dist(probe(c.b + 1)?, beside) > SIDES_AGREE
+                    || (dist(probe((c.a + c.b) / 2)?, beside) < COLOUR_STEP
+                        && dist(probe((c.a + 3 * c.b) / 4)?, beside) < COLOUR_STEP)))
         {
             return None;
         }
         let left = side(c.a - SIDE..c.a)?;
-        let right = side(c.b..c.b + SIDE)?;
-        if dist(left, right) > SIDES_AGREE {
-            return None;
-        }
-        let bg: [i32; 3] = std::array::from_fn(|k| (left[k] + right[k]) / 2);
+        let bg = if c.closed {
+            let right = side(c.b..c.b + SIDE)?;
+            if dist(left, right) > SIDES_AGREE {
+                return None;
+            }
+            std::array::from_fn(|k| (left[k] + right[k]) / 2)
+        } else {
+            left
+        };
+        // An open hole is read only as far as its widest shadow and a window of occluder.
+        let d_bg = self.disp(c.bg);
+        let b = c.b;
         // The RGB columns the hole covers at the background's depth, and which are background.
         let (x0, y) = self.project(c.a as f64 - 0.5, v, c.bg);
-        let (x1, _) = self.project(c.b as f64 - 0.5, v, c.bg);
-        let (x0, x1) = (x0.ceil() as i64, x1.ceil() as i64);
-        if x0 < 0 || x1 > WIDTH as i64 || x1 - x0 < MIN_HOLE as i64 - 1 {
+        let (x1, _) = self.project(b as f64 - 0.5, v, c.bg);
+        let (x0, mut x1) = (ceil(x0), ceil(x1));
+        if !c.closed {
+            x1 = x1.min(WIDTH as i64);
+        }
+        let y = round(y);
+        if x0 < 0
+            || x1 > WIDTH as i64
+            || x1 - x0 < MIN_HOLE as i64 - 1
+            || !(0..HEIGHT as i64).contains(&y)
+        {
             return None;
         }
+        let pixels =
+            &rgb[3 * (y as usize * WIDTH + x0 as usize)..3 * (y as usize * WIDTH + x1 as usize)];
         // Prefix sums over the RGB columns from x0: background columns, and colour distance, so
         // each layout scores in constant time.
-        let n = (x1 - x0) as usize;
-        let (mut bg_count, mut dist_sum) = ([0u32; WIDTH + 1], [0u32; WIDTH + 1]);
-        for k in 0..n {
-            let dx = dist(colour((x0 + k as i64) as f64, y)?, bg);
+        // An open hole must show its occluder: the shadow can only end just before the first run
+        // of non-background columns, so the columns are read only a window past it, and only
+        // widths near it are scored (this keeps the many open holes of a real frame cheap).
+        let mut n = (x1 - x0) as usize;
+        let (bg_count, dist_sum) = (&mut prefix.bg_count[..], &mut prefix.dist_sum[..]);
+        (bg_count[0], dist_sum[0]) = (0, 0);
+        let mut first = None;
+        for (k, p) in pixels.chunks_exact(3).enumerate() {
+            let dx = dist([p[0].into(), p[1].into(), p[2].into()], bg);
             bg_count[k + 1] = bg_count[k] + u32::from(dx < COLOUR_STEP);
             dist_sum[k + 1] = dist_sum[k] + dx;
+            if !c.closed && first.is_none() && k >= 2 && bg_count[k + 1] == bg_count[k - 2] {
+                first = Some(k - 2);
+            }
+            if first.is_some_and(|f| k + 1 >= f + 3 + OPEN_WINDOW) {
+                n = k + 1;
+                break;
+            }
         }
+        let (bg_count, dist_sum) = (&*bg_count, &*dist_sum);
+        let near = match (c.closed, first) {
+            (true, _) => 0..n,
+            (false, Some(first)) => first.saturating_sub(2)..first + 3,
+            (false, None) => return None,
+        };
         // Score of a layout: RGB columns it explains, and the colour distance of the columns it
         // calls shadow and occluder. Shadow width s puts the occluder at disparity disp(bg) + s,
-        // covering RGB columns [xo0, xo1).
-        let d_bg = self.disp(c.bg);
-        let score = |s: usize| -> Layout {
+        // covering RGB columns [xo0, xo1); in an open hole only a window of it is scored, and so
+        // is nothing after it.
+        let start = |s: usize| -> (u16, usize) {
             let at = self.raw_at_disp(d_bg + s as f64);
-            let xo0 = self.project(c.a as f64 + s as f64 - 0.5, v, at).0.ceil() as i64;
-            let xo1 = self.project(c.b as f64 - 0.5, v, at).0.ceil() as i64;
-            let (o0, o1) = (
-                (xo0 - x0).clamp(0, n as i64) as usize,
-                (xo1 - x0).clamp(0, n as i64) as usize,
-            );
-            let o1 = o1.max(o0);
+            let xo0 = ceil(self.project(c.a as f64 + s as f64 - 0.5, v, at).0);
+            (at, (xo0 - x0).clamp(0, n as i64) as usize)
+        };
+        let score = |s: usize| -> (Layout, usize) {
+            let (at, o0) = start(s);
+            let o1 = if c.closed {
+                let xo1 = ceil(self.project(c.b as f64 - 0.5, v, at).0);
+                ((xo1 - x0).clamp(0, n as i64) as usize).max(o0)
+            } else {
+                (o0 + OPEN_WINDOW).min(n)
+            };
+            let end = if c.closed { n } else { o1 };
             let occluder_cols = o1 - o0;
             let occluder_bg = (bg_count[o1] - bg_count[o0]) as usize;
-            let outside_bg = bg_count[n] as usize - occluder_bg;
-            Layout {
+            let outside_bg = bg_count[end] as usize - occluder_bg;
+            let layout = Layout {
                 hits: outside_bg + occluder_cols - occluder_bg,
                 shadow_cols: o0,
                 shadow_sum: dist_sum[o0],
                 occluder_cols,
                 occluder_sum: dist_sum[o1] - dist_sum[o0],
-            }
+            };
+            (layout, end)
         };
-        let width = c.b - c.a;
-        let no_shadow = score(0).hits;
-        let mut best: Option<(Layout, usize)> = None;
-        for s in 3..=width - 3 {
+        let width = b - c.a;
+        let no_shadow = score(0).0.hits;
+        let mut best: Option<(Layout, usize, usize)> = None;
+        // The occluder's start moves right with the shadow width: in an open hole, the first
+        // width that reaches the window, by bisection.
+        let (mut lo, mut hi) = (3, width.saturating_sub(3).max(3));
+        while !c.closed && lo < hi {
+            let mid = (lo + hi) / 2;
+            if start(mid).1 < near.start {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        for s in lo..=width.saturating_sub(3) {
             if d_bg + s as f64 > self.max_disp {
                 break;
             }
-            let l = score(s);
-            if best.is_none_or(|(b, _)| l.hits > b.hits) {
-                best = Some((l, s));
+            if !c.closed && start(s).1 >= near.end {
+                break;
+            }
+            let (l, end) = score(s);
+            // Closed holes: the layout explaining most columns. Open ones are scored over
+            // windows of different lengths: the fewest columns unexplained.
+            let better = |b: &(Layout, usize, usize)| {
+                if c.closed {
+                    l.hits > b.0.hits
+                } else {
+                    end - l.hits < b.2 - b.0.hits
+                }
+            };
+            if best.as_ref().is_none_or(better) {
+                best = Some((l, s, end));
             }
         }
-        let (l, s) = best?;
+        let (l, s, n) = best?;
+        if !c.closed && l.occluder_cols < OPEN_WINDOW / 2 {
+            return None;
+        }
         // Nearly every column explained, clearly better than no shadow; the shadow's columns are
         // plainly background and the occluder's plainly not (a pale poster on a white wall is
         // neither).
@@ -338,6 +453,20 @@ impl ColourSplit {
             && l.occluder_sum >= 2 * COLOUR_STEP * l.occluder_cols as u32;
         (clear && 10 * l.hits >= 9 * n && l.hits >= no_shadow + l.shadow_cols / 2 + 2).then_some(s)
     }
+}
+
+/// `x.round()` as an integer, without the libm call the baseline x86-64 target makes for it
+/// (ties away from zero, as `f64::round`; only for |x| well inside i64).
+fn round(x: f64) -> i64 {
+    let t = x as i64;
+    let f = x - t as f64;
+    t + i64::from(f >= 0.5) - i64::from(f <= -0.5)
+}
+
+/// `x.ceil()` as an integer, without the libm call (only for |x| well inside i64).
+fn ceil(x: f64) -> i64 {
+    let t = x as i64;
+    t + i64::from((t as f64) < x)
 }
 
 /// The hole through column `u` of `row` (a hole pixel), stepping over valid islands of up to
@@ -381,4 +510,18 @@ fn hole_span(row: &[u16], u: usize) -> (usize, usize) {
         a = run_start(a - island);
     }
     (a, b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integer_round_and_ceil_match_the_float_ones() {
+        for k in -4000i64..4000 {
+            let x = k as f64 / 16.0 + [0.0, 1e-9, -1e-9][k.rem_euclid(3) as usize];
+            assert_eq!(round(x), x.round() as i64, "round({x})");
+            assert_eq!(ceil(x), x.ceil() as i64, "ceil({x})");
+        }
+    }
 }
