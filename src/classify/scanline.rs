@@ -452,7 +452,7 @@ fn label_attached(
 /// is the widest run of this row and the rows above and below (`rows`).
 fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: [&[u16]; 2]) -> bool {
     // Narrower by at least this much (pixels), against depth noise in `w`.
-    const MARGIN: f32 = 1.0;
+    const MARGIN: f32 = 0.5;
     let d_occ = p.disp(raw[sb]);
     let Some(end) = occluder_end(p, raw, sb, d_occ, w) else {
         return false; // at least as wide as the shift: attached
