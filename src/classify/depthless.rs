@@ -29,7 +29,8 @@ const MAX_ISLAND: usize = 2;
 const ROWS_AGREE: usize = 3;
 /// Narrowest open hole at the right border considered (pixels), wider than the sensor's dead band.
 const MIN_BORDER_HOLE: usize = 32;
-/// RGB columns of occluder scored after the shadow of a hole that is not closed by background.
+/// RGB columns of occluder scored at least after the shadow of a hole that is not closed by
+/// background (more for wider shadows: an attached shadow's occluder is at least as wide as it).
 const OPEN_WINDOW: usize = 8;
 
 /// Per-calibration constants for the colour split.
@@ -208,11 +209,11 @@ impl ColourSplit {
         // straddling it: only its left part is tested.
         let same_right =
             b + SIDE <= WIDTH && (self.disp(left) - self.disp(raw[row + b])).abs() <= 2.0;
-        // An open hole is read no further than its widest shadow and a window of occluder.
+        // An open hole is read no further than its widest shadow and an occluder as wide.
         let reach = if same_right {
             b
         } else {
-            b.min(a + self.widest(left) + 2 * OPEN_WINDOW)
+            b.min(a + 2 * self.widest(left) + OPEN_WINDOW)
         };
         let allowed = |l: u8| l == OTHER || (split_already && l == ATTACHED);
         let cut = (a..reach)
@@ -364,7 +365,9 @@ impl ColourSplit {
             if !c.closed && first.is_none() && k >= 2 && bg_count[k + 1] == bg_count[k - 2] {
                 first = Some(k - 2);
             }
-            if first.is_some_and(|f| k + 1 >= f + 3 + OPEN_WINDOW) {
+            // The occluder's RGB columns: at least as many as the IR shadow's, which are about
+            // 1.7 times its visible RGB columns (`f`).
+            if first.is_some_and(|f| k + 1 >= f + 3 + OPEN_WINDOW.max(2 * f)) {
                 n = k + 1;
                 break;
             }
@@ -390,7 +393,11 @@ impl ColourSplit {
                 let xo1 = ceil(self.project(c.b as f64 - 0.5, v, at).0);
                 ((xo1 - x0).clamp(0, n as i64) as usize).max(o0)
             } else {
-                (o0 + OPEN_WINDOW).min(n)
+                // An attached shadow's occluder is at least as wide as the shift (else the shadow
+                // would be detached and narrower): a thin rod before a hole is no occluder here.
+                let xs = ceil(self.project((c.a + 2 * s) as f64 - 0.5, v, at).0);
+                let wide = ((xs - x0).max(0) as usize).saturating_sub(o0);
+                (o0 + OPEN_WINDOW.max(wide)).min(n)
             };
             let end = if c.closed { n } else { o1 };
             let occluder_cols = o1 - o0;
