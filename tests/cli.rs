@@ -71,9 +71,12 @@ fn replay_exports_exactly_what_the_classifier_computes() {
     let mut classifier = Classifier::new(recording.calibration());
     let (mut raw, mut out, mut png) =
         (vec![0u16; PIXELS], Classified::default(), vec![0u8; PIXELS]);
+    let mut rgb = vec![0u8; 3 * PIXELS];
     for i in 0..3 {
         recording.read_depth(i, &mut raw).unwrap();
-        classifier.classify(&raw, &mut out);
+        // With the paired RGB image, as the daemon classifies (the colour split reads it).
+        let has_rgb = recording.read_rgb(i, &mut rgb).unwrap();
+        classifier.classify_with_rgb(&raw, has_rgb.then_some(&rgb[..]), &mut out);
         read_label_png(&label_path(&out_dir, i, "depth"), &mut png).unwrap();
         assert!(
             png == out.ir_labels,

@@ -27,6 +27,12 @@ const POOL: usize = 8;
 const RECENT_RGB: usize = 2;
 /// An RGB frame received further than this from a depth frame (host time) is not its pair.
 const MAX_RGB_GAP_S: f64 = 0.1;
+/// The next RGB frame is waited for when it is due this soon after the depth frame (fraction of
+/// a frame period, 3.3 ms at 30 fps) and would be nearer to it than the last one received. The
+/// streams run at one rate with a fixed phase, so this costs latency only when that phase is
+/// small, and then at most this much; under fakenect RGB follows depth by 2 ms, and without the
+/// wait the colour split would see the previous RGB frame where a replay sees the nearest.
+const RGB_DUE_FRACTION: f64 = 0.1;
 
 /// A live (or fakenect) Kinect v1.
 pub struct KinectSource {
@@ -131,14 +137,53 @@ impl KinectSource {
     /// Moves every RGB frame received so far into `recent`, recycling the oldest.
     fn take_rgb(&mut self) {
         while let Ok(rgb) = self.stream.video.try_recv() {
-            self.recent.push_back(rgb);
-            if self.recent.len() > RECENT_RGB {
-                if let Some(old) = self.recent.pop_front() {
-                    let _ = self.stream.video_free.try_send(old.data);
-                }
+            self.keep_rgb(rgb);
+        }
+    }
+
+    fn keep_rgb(&mut self, rgb: Captured<u8>) {
+        self.recent.push_back(rgb);
+        if self.recent.len() > RECENT_RGB {
+            if let Some(old) = self.recent.pop_front() {
+                let _ = self.stream.video_free.try_send(old.data);
             }
         }
     }
+
+    /// Waits briefly for the RGB frame due just after the depth frame at `depth_ts`, when it will
+    /// be a nearer pair than any received ([`RGB_DUE_FRACTION`]).
+    fn wait_for_due_rgb(&mut self, depth_ts: u32) {
+        let n = self.recent.len();
+        if n < 2 {
+            return;
+        }
+        let (prev, newest) = (&self.recent[n - 2], &self.recent[n - 1]);
+        if !rgb_due(prev.ts, newest.ts, depth_ts) {
+            return;
+        }
+        let host_period = newest.unix_time - prev.unix_time;
+        let wait = (host_period * (RGB_DUE_FRACTION + 0.05)).clamp(0.0, 0.005);
+        if let Ok(rgb) = self
+            .stream
+            .video
+            .recv_timeout(Duration::from_secs_f64(wait))
+        {
+            self.keep_rgb(rgb);
+        }
+    }
+}
+
+/// True when the RGB frame after `newest` (device timestamps; the one before it was `prev`) is
+/// due within [`RGB_DUE_FRACTION`] of a period after the depth frame at `depth_ts`, and would be
+/// nearer to it than `newest`.
+fn rgb_due(prev: u32, newest: u32, depth_ts: u32) -> bool {
+    let period = newest.wrapping_sub(prev) as i32;
+    let ahead = newest.wrapping_sub(depth_ts) as i32;
+    if period <= 0 || ahead >= 0 {
+        return false; // no rate yet, or a frame at or after the depth frame is already here
+    }
+    let next = ahead + period; // the next frame's timestamp minus the depth frame's
+    next >= 0 && f64::from(next) <= RGB_DUE_FRACTION * f64::from(period) && next < -ahead
 }
 
 /// Distance between two 32-bit device timestamps, across a wrap.
@@ -191,6 +236,7 @@ impl Source for KinectSource {
             );
         }
         self.take_rgb();
+        self.wait_for_due_rgb(frame.device_ts);
         frame.has_rgb = match nearest_rgb(&self.recent, frame.device_ts, frame.unix_time) {
             Some(i) => {
                 let rgb = &self.recent[i].data;
@@ -232,6 +278,30 @@ mod tests {
         assert_eq!(ts_distance(5, u32::MAX - 4), 10);
         assert_eq!(ts_distance(u32::MAX - 4, 5), 10);
         assert_eq!(ts_distance(100, 40), 60);
+    }
+
+    #[test]
+    fn waits_only_for_an_rgb_frame_due_just_after_the_depth_frame() {
+        // 30 fps on a 60 MHz clock: 2 000 000 ticks per frame. Timestamps relative to the depth
+        // frame's, wrapped to 32 bits as the device's are.
+        let p = 2_000_000i64;
+        let due =
+            |prev: i64, newest: i64, depth: i64| rgb_due(prev as u32, newest as u32, depth as u32);
+        // RGB follows depth by 4 000 ticks (as under fakenect): the next one is worth the wait.
+        assert!(due(4_000 - 2 * p, 4_000 - p, 0));
+        // Due half a frame later: the one received is as near, no wait.
+        assert!(!due(p / 2 - 2 * p, p / 2 - p, 0));
+        // Already received one after the depth frame: no wait.
+        assert!(!due(1_000 - p, 1_000, 0));
+        // Across the 32-bit wrap.
+        assert!(due(10 - 2 * p, 10 - p, 5));
+        assert!(due(
+            u32::MAX as i64 - 2 * p,
+            u32::MAX as i64 - p,
+            u32::MAX as i64 - 4_000
+        ));
+        // No rate yet (two frames with one timestamp).
+        assert!(!due(7, 7, 100));
     }
 
     #[test]

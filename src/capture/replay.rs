@@ -20,7 +20,8 @@ pub struct ReplaySource {
 }
 
 impl ReplaySource {
-    /// A source over `recording`; RGB frames are read only when `with_rgb` (a sink needs them).
+    /// A source over `recording`; RGB frames are read only when `with_rgb` (the classifier's
+    /// colour split and the RGB sinks use them; benchmarks of the depth path go without).
     pub fn new(recording: Recording, with_rgb: bool) -> Self {
         let f = recording.frames();
         let span = match (f.first(), f.last()) {

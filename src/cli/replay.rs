@@ -64,7 +64,8 @@ pub fn run(a: Args) -> crate::Result<()> {
         None => None,
     };
     let bar = super::progress_bar(rec.len() as u64, "frames");
-    let source = Box::new(ReplaySource::new(rec, false));
+    // With RGB: the classifier's colour split reads it, as it does in the daemon.
+    let source = Box::new(ReplaySource::new(rec, true));
     let stats = pipeline::run(source, classifier, &mut sinks, Options::default(), |_| {
         bar.inc(1)
     });

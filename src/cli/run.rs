@@ -242,9 +242,8 @@ pub fn run(a: Args) -> Result<()> {
                 "replaying {}",
                 dir.display()
             );
-            // Foreground masks are made in the RGB view: they need the colour image too.
-            let replay = ReplaySource::new(rec, mcap_opts.write_rgb || mcap_opts.write_foreground)
-                .repeat(a.repeat);
+            // The classifier's colour split reads the RGB image, as it does live.
+            let replay = ReplaySource::new(rec, true).repeat(a.repeat);
             (Box::new(Paced::new(replay, stop.clone(), !fast)), calib)
         }
     };
