@@ -242,6 +242,61 @@ fn black_box_across_the_right_border_is_split_from_its_left_side() {
 }
 
 #[test]
+fn black_box_shadow_beside_a_nearer_box_is_split_against_the_wall_right_of_it() {
+    // The black box of the hand-computed scene, and a thin matte board at 0.7 m whose right edge
+    // hides the left end of the black box's shadow: the hole has the board on its left and the
+    // wall only on its right. By hand: the board's edge (x = −0.166 m at z = 0.72 m) is at column
+    // cx + fx·(−0.166/0.72) = 178.7, the black box's (−0.2 m at 1 m) at 196.5, so 17.8 px of the
+    // 29.1 px shadow show. The width that shows is no measure of the box's depth here; the box's
+    // right edge is (the RGB camera sees it f_rgb·0.025/1 m = 13 px left of where the IR camera
+    // does), and with it the colour edge fixes where the box starts.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::box_before_wall(1.0, 3.0);
+    scene.objects[1].material = umbra::synth::Material::black();
+    scene.push(
+        "board",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(-0.266, 0.0, 0.71),
+            half: umbra::synth::V3::new(0.1, 0.3, 0.01),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::matte([0.2, 0.4, 0.8]),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 7);
+    let out = classify_rgb(&calib, &frame);
+    let visible = calib.depth.cx + calib.depth.fx * (-0.166 / 0.72);
+    let visible = calib.depth.cx - calib.depth.fx * 0.2 - visible;
+    // The board's own shadow lies left of it: only columns right of the board count.
+    let count = |labels: &[u8], v: usize| {
+        labels[v * WIDTH + 170..v * WIDTH + 320]
+            .iter()
+            .filter(|&&l| l == ATTACHED)
+            .count()
+    };
+    let (mut rows, mut split) = (0, 0);
+    for v in 0..HEIGHT {
+        let truth = count(&frame.ir_labels, v);
+        let n = count(&out.ir_labels, v);
+        if truth == 0 {
+            assert_eq!(n, 0, "row {v}: attached pixels where the box casts none");
+            continue;
+        }
+        rows += 1;
+        if n > 0 {
+            split += 1;
+            assert!(
+                (n as f64 - visible).abs() <= 2.5,
+                "row {v}: {n} attached px, {visible:.1} visible"
+            );
+        }
+    }
+    assert!(
+        rows > 100 && 10 * split >= 8 * rows,
+        "{split} of {rows} rows split"
+    );
+}
+
+#[test]
 fn colour_split_leaves_posters_alone() {
     // A black poster and a pale glossy one on the wall: holes with no shadow in them (SPEC: OTHER
     // even if lit). Neither has a background-coloured part that a shadow could be.

@@ -13,7 +13,7 @@
 //! sides), after the scanline and before the warp; nothing is allocated.
 
 use crate::calib::Calibration;
-use crate::labels::{ATTACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
+use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
 /// Narrowest merged hole considered (pixels): a shadow and an occluder of 3 px each.
 const MIN_HOLE: usize = 6;
@@ -83,10 +83,15 @@ struct Candidate {
     a: usize,
     b: usize,
     bg: u16,
-    /// The same background bounds the hole on the right too. Otherwise the hole runs on into
+    /// A background bounds the hole on the right too. Otherwise the hole runs on into
     /// something else (another hole's labels, a second occluder, a slanted or farther surface,
     /// the image border) and only its left part, shadow then occluder, can be tested.
     closed: bool,
+    /// A closed hole whose left bound is a nearer surface (the shadow fell on the background
+    /// behind it, beside that surface's edge): `bg` and its colour are the right side's. Tried
+    /// when the left-background reading fails (on a wall slanting away, the left side is nearer
+    /// too, and is the background).
+    behind: bool,
 }
 
 impl ColourSplit {
@@ -147,17 +152,30 @@ impl ColourSplit {
                     u = b.max(u + 1);
                     continue;
                 }
-                if let Some(c) = self.candidate(raw, labels, v, u, b, false) {
-                    if let Some(s) = self.agreed_split(raw, rgb, labels, v, c, &mut prefix) {
-                        let at = self.raw_at_disp(self.disp(c.bg) + s as f64);
-                        for u in c.a..c.b {
-                            let i = v * WIDTH + u;
-                            // Islands inside keep their label; the occluder's pixels its depth.
-                            if raw[i] == NO_DEPTH && u < c.a + s {
-                                labels[i] = ATTACHED;
-                            } else if u >= c.a + s {
-                                filled[i] = at;
-                            }
+                // The background on the left first; failing that, a nearer surface on the left
+                // with the background behind it showing on the right.
+                let split = [false, true].into_iter().find_map(|behind| {
+                    let c = self.candidate(raw, labels, v, (u, b), false, behind)?;
+                    Some((c, self.agreed_split(raw, rgb, labels, v, c, &mut prefix)?))
+                });
+                if let Some((c, (s, shift))) = split {
+                    let at = self.raw_at_disp(self.disp(c.bg) + shift as f64);
+                    // An occluder narrower than its shift lets the projector light background
+                    // between it and its shadow (eqs. 4–5): detached, the lit gap swallowed by
+                    // the sensor's widening (as the scanline's thin-occluder rule has it). The
+                    // colour edge places `s` within about 2 px.
+                    let code = if c.closed && c.b - c.a - s + 2 < shift {
+                        DETACHED
+                    } else {
+                        ATTACHED
+                    };
+                    for u in c.a..c.b {
+                        let i = v * WIDTH + u;
+                        // Islands inside keep their label; the occluder's pixels its depth.
+                        if raw[i] == NO_DEPTH && u < c.a + s {
+                            labels[i] = code;
+                        } else if u >= c.a + s {
+                            filled[i] = at;
                         }
                     }
                 }
@@ -191,9 +209,9 @@ impl ColourSplit {
         raw: &[u16],
         labels: &[u8],
         v: usize,
-        a: usize,
-        b: usize,
+        (a, b): (usize, usize),
         split_already: bool,
+        behind: bool,
     ) -> Option<Candidate> {
         let row = v * WIDTH;
         if a < SIDE || b - a < MIN_HOLE {
@@ -207,31 +225,42 @@ impl ColourSplit {
         let left = raw[row + a - 1];
         // A hole off the right border is as often the sensor's dead band there as an occluder
         // straddling it: only its left part is tested.
-        let same_right =
-            b + SIDE <= WIDTH && (self.disp(left) - self.disp(raw[row + b])).abs() <= 2.0;
+        let right = (b + SIDE <= WIDTH).then(|| raw[row + b]);
+        let step = right.map_or(0.0, |r| self.disp(left) - self.disp(r));
+        let same_right = right.is_some() && step.abs() <= 2.0;
+        if behind && !(right.is_some() && step > 2.0) {
+            return None;
+        }
         // An open hole is read no further than its widest shadow and an occluder as wide.
-        let reach = if same_right {
+        let reach = if same_right || behind {
             b
         } else {
             b.min(a + 2 * self.widest(left) + OPEN_WINDOW)
         };
-        let allowed = |l: u8| l == OTHER || (split_already && l == ATTACHED);
+        let allowed = |l: u8| l == OTHER || (split_already && (l == ATTACHED || l == DETACHED));
         let cut = (a..reach)
             .find(|&u| raw[row + u] == NO_DEPTH && !allowed(labels[row + u]))
             .unwrap_or(reach);
-        if cut - a < MIN_HOLE {
+        if cut - a < MIN_HOLE || (behind && cut < b) {
             return None;
         }
-        let closed = same_right && cut == b;
+        let closed = (same_right || behind) && cut == b;
+        let bg = match right {
+            Some(r) if behind => r,
+            Some(r) if closed => left.max(r),
+            _ => left,
+        };
         Some(Candidate {
             a,
             b: cut,
-            bg: if closed { left.max(raw[row + b]) } else { left },
+            bg,
             closed,
+            behind,
         })
     }
 
-    /// The split of candidate `c` in row `v`, if the rows above and below agree.
+    /// The split of candidate `c` in row `v` (shadow width, occluder shift), if the rows above
+    /// and below agree.
     fn agreed_split(
         &self,
         raw: &[u16],
@@ -240,7 +269,7 @@ impl ColourSplit {
         v: usize,
         c: Candidate,
         prefix: &mut Prefix,
-    ) -> Option<usize> {
+    ) -> Option<(usize, usize)> {
         // Depth first (the raw rows are in cache, the RGB image often is not): the rows above and
         // below must hold a candidate hole through the same column (the middle of a closed hole,
         // near the start of an open one, which may run on far past the occluder).
@@ -255,13 +284,13 @@ impl ColourSplit {
                 return None;
             }
             let (a, b) = hole_span(row, mid);
-            self.candidate(raw, labels, w, a, b, w < v)
+            self.candidate(raw, labels, w, (a, b), w < v, c.behind)
         };
         let (above, below) = (neighbour(v - 1)?, neighbour(v + 1)?);
         let s = self.split(rgb, v, c, prefix)?;
         let mut agrees = |w: usize, n: Candidate| {
             self.split(rgb, w, n, prefix)
-                .is_some_and(|t| t.abs_diff(s) <= ROWS_AGREE)
+                .is_some_and(|(t, _)| t.abs_diff(s.0) <= ROWS_AGREE)
         };
         (agrees(v - 1, above) && agrees(v + 1, below)).then_some(s)
     }
@@ -279,8 +308,16 @@ impl ColourSplit {
     }
 
     /// The shadow width whose layout (background, occluder, background) best explains the RGB row
-    /// under the hole, when it explains nearly all of it and clearly better than no shadow.
-    fn split(&self, rgb: &[u8], v: usize, c: Candidate, prefix: &mut Prefix) -> Option<usize> {
+    /// under the hole, when it explains nearly all of it and clearly better than no shadow; and
+    /// the occluder's shift (its disparity above the background's), the same unless part of the
+    /// shadow is hidden ([`Candidate::behind`]).
+    fn split(
+        &self,
+        rgb: &[u8],
+        v: usize,
+        c: Candidate,
+        prefix: &mut Prefix,
+    ) -> Option<(usize, usize)> {
         let colour = |x: f64, y: f64| -> Option<[i32; 3]> {
             let (x, y) = (round(x), round(y));
             if x < 0 || y < 0 || x >= WIDTH as i64 || y >= HEIGHT as i64 {
@@ -310,7 +347,7 @@ impl ColourSplit {
             let (x, y) = self.project(u as f64, v, c.bg);
             colour(x, y)
         };
-        let beside = probe(c.a - 2)?;
+        let beside = probe(if c.behind { c.b + 1 } else { c.a - 2 })?;
         if dist(probe(c.a)?, beside) >= COLOUR_STEP
             || (c.closed
                 && (dist(probe(c.b + 1)?, beside) > SIDES_AGREE
@@ -319,15 +356,16 @@ impl ColourSplit {
         {
             return None;
         }
-        let left = side(c.a - SIDE..c.a)?;
-        let bg = if c.closed {
-            let right = side(c.b..c.b + SIDE)?;
+        let bg = if c.behind {
+            side(c.b..c.b + SIDE)?
+        } else if c.closed {
+            let (left, right) = (side(c.a - SIDE..c.a)?, side(c.b..c.b + SIDE)?);
             if dist(left, right) > SIDES_AGREE {
                 return None;
             }
             std::array::from_fn(|k| (left[k] + right[k]) / 2)
         } else {
-            left
+            side(c.a - SIDE..c.a)?
         };
         // An open hole is read only as far as its widest shadow and a window of occluder.
         let d_bg = self.disp(c.bg);
@@ -382,8 +420,28 @@ impl ColourSplit {
         // calls shadow and occluder. Shadow width s puts the occluder at disparity disp(bg) + s,
         // covering RGB columns [xo0, xo1); in an open hole only a window of it is scored, and so
         // is nothing after it.
+        // Behind a nearer surface the shadow's left end is hidden, so its visible width is not
+        // the occluder's shift; the occluder's right edge gives the shift instead (the RGB camera
+        // sees that edge move left by a third of it): background right of it, occluder left.
+        let shift = if c.behind {
+            let mut fit: Option<(u32, usize)> = None;
+            for t in 3..=self.widest(c.bg) {
+                let at = self.raw_at_disp(d_bg + t as f64);
+                let o1 = (ceil(self.project(b as f64 - 0.5, v, at).0) - x0).clamp(0, n as i64);
+                let o1 = o1 as usize;
+                let lo = o1.saturating_sub(OPEN_WINDOW);
+                let misses = (bg_count[o1] - bg_count[lo])
+                    + ((n - o1) as u32 - (bg_count[n] - bg_count[o1]));
+                if fit.is_none_or(|(m, _)| misses < m) {
+                    fit = Some((misses, t));
+                }
+            }
+            Some(fit?.1)
+        } else {
+            None
+        };
         let start = |s: usize| -> (u16, usize) {
-            let at = self.raw_at_disp(d_bg + s as f64);
+            let at = self.raw_at_disp(d_bg + shift.unwrap_or(s) as f64);
             let xo0 = ceil(self.project(c.a as f64 + s as f64 - 0.5, v, at).0);
             (at, (xo0 - x0).clamp(0, n as i64) as usize)
         };
@@ -427,7 +485,7 @@ impl ColourSplit {
             }
         }
         for s in lo..=width.saturating_sub(3) {
-            if d_bg + s as f64 > self.max_disp {
+            if d_bg + s as f64 > self.max_disp || shift.is_some_and(|t| s > t) {
                 break;
             }
             if !c.closed && start(s).1 >= near.end {
@@ -458,7 +516,8 @@ impl ColourSplit {
             && l.occluder_cols >= 2
             && 2 * l.shadow_sum <= COLOUR_STEP * l.shadow_cols as u32
             && l.occluder_sum >= 2 * COLOUR_STEP * l.occluder_cols as u32;
-        (clear && 10 * l.hits >= 9 * n && l.hits >= no_shadow + l.shadow_cols / 2 + 2).then_some(s)
+        (clear && 10 * l.hits >= 9 * n && l.hits >= no_shadow + l.shadow_cols / 2 + 2)
+            .then_some((s, shift.unwrap_or(s)))
     }
 }
 
