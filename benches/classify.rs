@@ -104,6 +104,18 @@ fn bench(c: &mut Criterion) {
                 )
             })
         });
+        if let Some(rgb) = rgb {
+            // The colour split on the scanline's output (restored before each run, untimed).
+            let mut split = umbra::classify::depthless::ColourSplit::new(cal);
+            let (labels, fill) = (out.ir_labels.clone(), filled.clone());
+            g.bench_function(format!("stage_colour_split/{name}"), |b| {
+                b.iter_batched_ref(
+                    || (labels.clone(), fill.clone()),
+                    |(l, f)| split.apply(black_box(frame), rgb, l, f),
+                    criterion::BatchSize::LargeInput,
+                )
+            });
+        }
         let mut warp = umbra::classify::align::Warp::new(cal);
         g.bench_function(format!("stage_warp_rgb/{name}"), |b| {
             b.iter(|| {

@@ -297,6 +297,44 @@ fn black_box_shadow_beside_a_nearer_box_is_split_against_the_wall_right_of_it() 
 }
 
 #[test]
+fn black_box_across_the_left_border_stands_at_its_depth_in_the_rgb_view() {
+    // Box from x = −0.75 to −0.35 m at 1 m, across the left border: its hole starts at the border,
+    // so no shadow can be split off, and depth alone warps it as far as the wall. Its right edge
+    // tells its depth: the IR camera sees the box's right face, so the edge is its back corner
+    // (−0.35 m, 1.2 m), and the RGB camera 2.5 cm to the right sees wall past it in a strip of
+    // f_rgb·0.025·(1/1.2 − 1/3) = 6.5 px per row, the alignment shadow.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::box_before_wall(1.0, 3.0);
+    scene.objects[1].material = umbra::synth::Material::black();
+    if let umbra::synth::Shape::Box { centre, .. } = &mut scene.objects[1].shape {
+        centre.x -= 0.55;
+    }
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 8);
+    let strip = calib.rgb.fx * 0.025 * (1.0 / 1.2 - 1.0 / 3.0);
+    let rows = (0..HEIGHT)
+        .filter(|&v| count_in_row(&frame.rgb_labels, v, ALIGNMENT) > 0)
+        .collect::<Vec<_>>();
+    assert!(rows.len() > 100, "the box spans {} RGB rows", rows.len());
+    let mid = rows[rows.len() / 2];
+    let truth = count_in_row(&frame.rgb_labels, mid, ALIGNMENT) as f64;
+    assert!(
+        (truth - strip).abs() <= 1.0,
+        "simulator: {truth} px, by hand {strip:.1}"
+    );
+    let (mut with, mut without) = (Confusion::default(), Confusion::default());
+    with.add(&frame.rgb_labels, &classify_rgb(&calib, &frame).rgb_labels);
+    without.add(&frame.rgb_labels, &classify(&calib, &frame).rgb_labels);
+    at_least(
+        &with,
+        Some(ALIGNMENT),
+        0.8,
+        "RGB alignment right of a black box",
+    );
+    let blind = without.class(ALIGNMENT).recall.unwrap_or(0.0);
+    assert!(blind < 0.3, "depth alone finds {blind:.2} of it");
+}
+
+#[test]
 fn colour_split_leaves_posters_alone() {
     // A black poster and a pale glossy one on the wall: holes with no shadow in them (SPEC: OTHER
     // even if lit). Neither has a background-coloured part that a shadow could be.

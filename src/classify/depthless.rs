@@ -27,8 +27,11 @@ const SIDES_AGREE: u32 = 45;
 const MAX_ISLAND: usize = 2;
 /// Shadow widths of neighbouring rows may differ by this much (pixels).
 const ROWS_AGREE: usize = 3;
+/// Occluder shifts read from the right edges of neighbouring rows may differ by this much (one
+/// RGB column is about 3.4 px of shift).
+const EDGE_AGREE: usize = 4;
 /// Narrowest open hole at the right border considered (pixels), wider than the sensor's dead band.
-const MIN_BORDER_HOLE: usize = 32;
+const MIN_BORDER_HOLE: usize = 48;
 /// RGB columns of occluder scored at least after the shadow of a hole that is not closed by
 /// background (more for wider shadows: an attached shadow's occluder is at least as wide as it).
 const OPEN_WINDOW: usize = 8;
@@ -147,17 +150,31 @@ impl ColourSplit {
                     continue;
                 }
                 // Each hole is visited once: from its first pixel, on to its end.
-                let (_, b) = hole_span(row, u);
-                if labels[i] != OTHER || raw[i - 1] == NO_DEPTH {
+                let (a, b) = hole_span(row, u);
+                if labels[i] != OTHER {
                     u = b.max(u + 1);
                     continue;
                 }
                 // The background on the left first; failing that, a nearer surface on the left
                 // with the background behind it showing on the right.
-                let split = [false, true].into_iter().find_map(|behind| {
-                    let c = self.candidate(raw, labels, v, (u, b), false, behind)?;
-                    Some((c, self.agreed_split(raw, rgb, labels, v, c, &mut prefix)?))
-                });
+                let split = (raw[i - 1] != NO_DEPTH)
+                    .then(|| {
+                        [false, true].into_iter().find_map(|behind| {
+                            let c = self.candidate(raw, labels, v, (u, b), false, behind)?;
+                            Some((c, self.agreed_split(raw, rgb, labels, v, c, &mut prefix)?))
+                        })
+                    })
+                    .flatten();
+                if split.is_none() {
+                    // No shadow to split off, but an occluder's depth still places it in the RGB
+                    // view, with the alignment shadow right of it.
+                    if let Some(shift) =
+                        self.agreed_right_edge(raw, rgb, labels, v, (a, b), &mut prefix)
+                    {
+                        let at = self.raw_at_disp(self.disp(raw[v * WIDTH + b]) + shift as f64);
+                        filled[v * WIDTH + a..v * WIDTH + b].fill(at);
+                    }
+                }
                 if let Some((c, (s, shift))) = split {
                     let at = self.raw_at_disp(self.disp(c.bg) + shift as f64);
                     // An occluder narrower than its shift lets the projector light background
@@ -217,7 +234,7 @@ impl ColourSplit {
         if a < SIDE || b - a < MIN_HOLE {
             return None;
         }
-        // The real sensor's dead band along the right border (about 25 px on the NYU frame) is an
+        // The real sensor's dead band along the right border (25 to 34 px on the NYU frame) is an
         // open hole in every row: only wider ones can hold an occluder's shadow and part of it.
         if b == WIDTH && b - a < MIN_BORDER_HOLE {
             return None;
@@ -293,6 +310,136 @@ impl ColourSplit {
                 .is_some_and(|(t, _)| t.abs_diff(s.0) <= ROWS_AGREE)
         };
         (agrees(v - 1, above) && agrees(v + 1, below)).then_some(s)
+    }
+
+    /// The shift of an occluder filling the hole `[a, b)` of row `v` up to the background on its
+    /// right, read from where the RGB camera sees that edge ([`ColourSplit::right_edge`]), if
+    /// the rows above and below, holes ending within a pixel of `b`, agree.
+    fn agreed_right_edge(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        labels: &[u8],
+        v: usize,
+        (a, b): (usize, usize),
+        prefix: &mut Prefix,
+    ) -> Option<usize> {
+        let hole = |w: usize| {
+            let row = &raw[w * WIDTH..(w + 1) * WIDTH];
+            if b + SIDE > WIDTH || row[b - 1] != NO_DEPTH || row[b] == NO_DEPTH {
+                return None;
+            }
+            let (a, end) = hole_span(row, b - 1);
+            let others = labels[w * WIDTH + a..w * WIDTH + end]
+                .iter()
+                .zip(&row[a..end])
+                .any(|(&l, &r)| r == NO_DEPTH && l != OTHER && w >= v);
+            (end == b && end - a >= 2 * MIN_HOLE && !others).then_some((a, end))
+        };
+        hole(v)?;
+        let (above, below) = (hole(v - 1)?, hole(v + 1)?);
+        let t = self.right_edge(rgb, v, (a, b), raw[v * WIDTH + b], prefix)?;
+        let mut agrees = |w: usize, span: (usize, usize)| {
+            self.right_edge(rgb, w, span, raw[w * WIDTH + b], prefix)
+                .is_some_and(|u| u.abs_diff(t) <= EDGE_AGREE)
+        };
+        (agrees(v - 1, above) && agrees(v + 1, below)).then_some(t)
+    }
+
+    /// The shift (disparity above the background `bg` right of it) of an occluder whose right
+    /// edge is the end `b` of the hole `[a, b)` in row `v`: the RGB camera, 2.5 cm to the right,
+    /// sees background past that edge, in a strip as wide as a third of the shift (the alignment
+    /// shadow). Requires occluder colour left of the strip and background colour in it and beyond.
+    fn right_edge(
+        &self,
+        rgb: &[u8],
+        v: usize,
+        (a, b): (usize, usize),
+        bg: u16,
+        prefix: &mut Prefix,
+    ) -> Option<usize> {
+        let d_bg = self.disp(bg);
+        let widest = self.widest(bg);
+        if widest < 3 {
+            return None;
+        }
+        // RGB columns from the nearest occluder's edge minus a window to a few past the edge at
+        // the background's depth.
+        let (xb, y) = self.project(b as f64 - 0.5, v, bg);
+        let (xb, y) = (ceil(xb), round(y));
+        let near = ceil(
+            self.project(b as f64 - 0.5, v, self.raw_at_disp(d_bg + widest as f64))
+                .0,
+        );
+        let far_left = ceil(self.project(a as f64 - 0.5, v, bg).0);
+        let x0 = (near - OPEN_WINDOW as i64).max(far_left);
+        let x1 = xb + SIDE as i64;
+        if x0 < 0
+            || x1 > WIDTH as i64
+            || !(0..HEIGHT as i64).contains(&y)
+            || x1 - x0 < MIN_HOLE as i64
+        {
+            return None;
+        }
+        let row = &rgb[3 * y as usize * WIDTH..3 * (y as usize + 1) * WIDTH];
+        let px = |x: i64| -> [i32; 3] {
+            let i = 3 * x as usize;
+            [row[i].into(), row[i + 1].into(), row[i + 2].into()]
+        };
+        let dist =
+            |p: [i32; 3], q: [i32; 3]| p.iter().zip(&q).map(|(a, b)| a.abs_diff(*b)).sum::<u32>();
+        // Background colour: the measured pixels right of the hole.
+        let mut sum = [0i32; 3];
+        for u in b..b + SIDE {
+            let (x, _) = self.project(u as f64, v, bg);
+            let p = px(round(x).clamp(0, WIDTH as i64 - 1));
+            for k in 0..3 {
+                sum[k] += p[k];
+            }
+        }
+        let bg_colour = sum.map(|s| s / SIDE as i32);
+        let n = (x1 - x0) as usize;
+        let (bg_count, dist_sum) = (&mut prefix.bg_count[..], &mut prefix.dist_sum[..]);
+        (bg_count[0], dist_sum[0]) = (0, 0);
+        for k in 0..n {
+            let dx = dist(px(x0 + k as i64), bg_colour);
+            bg_count[k + 1] = bg_count[k] + u32::from(dx < COLOUR_STEP);
+            dist_sum[k + 1] = dist_sum[k] + dx;
+        }
+        // For shift t the edge is at RGB column o1(t): occluder in the window left of it,
+        // background from it on. o1 falls as t grows; the best column first (largest of the
+        // fewest misses: the smallest shift), then its shift by bisection.
+        let edge = |t: usize| {
+            let at = self.raw_at_disp(d_bg + t as f64);
+            (ceil(self.project(b as f64 - 0.5, v, at).0) - x0).clamp(0, n as i64) as usize
+        };
+        let (lowest, highest) = (edge(widest), edge(3));
+        let misses = |o: usize| {
+            let lo = o.saturating_sub(OPEN_WINDOW);
+            (bg_count[o] - bg_count[lo]) + ((n - o) as u32 - (bg_count[n] - bg_count[o]))
+        };
+        let (misses, o1) = (lowest..=highest)
+            .map(|o| (misses(o), o))
+            .min_by_key(|&(m, o)| (m, std::cmp::Reverse(o)))?;
+        let (mut t, mut hi) = (3, widest);
+        while t < hi {
+            let mid = (t + hi) / 2;
+            if edge(mid) > o1 {
+                t = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        let lo = o1.saturating_sub(OPEN_WINDOW);
+        let occluder_cols = (o1 - lo) as u32;
+        // A clean edge, an alignment strip of at least two columns, an occluder plainly not
+        // background (a black poster's edge does not move: no strip).
+        let strip = (xb - x0) as usize - o1.min((xb - x0) as usize);
+        (misses <= 1
+            && strip >= 2
+            && occluder_cols >= (OPEN_WINDOW / 2) as u32
+            && dist_sum[o1] - dist_sum[lo] >= 2 * COLOUR_STEP * occluder_cols)
+            .then_some(t)
     }
 
     /// RGB column and row of IR pixel (`u`, `v`) at raw value `raw` (one division).
