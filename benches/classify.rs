@@ -107,7 +107,8 @@ fn bench(c: &mut Criterion) {
         if let Some(rgb) = rgb {
             // The colour split on the scanline's output (restored before each run, untimed).
             let mut split = umbra::classify::depthless::ColourSplit::new(cal);
-            let (labels, fill) = (out.ir_labels.clone(), filled.clone());
+            let (mut labels, mut fill) = (vec![0u8; PIXELS], vec![0u16; PIXELS]);
+            umbra::classify::scanline::classify_frame(&scan, frame, &mut labels, &mut fill);
             g.bench_function(format!("stage_colour_split/{name}"), |b| {
                 b.iter_batched_ref(
                     || (labels.clone(), fill.clone()),

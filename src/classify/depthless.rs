@@ -64,7 +64,17 @@ pub struct ColourSplit {
 struct Prefix {
     bg_count: Vec<u32>,
     dist_sum: Vec<u32>,
+    /// Recent splits by row and candidate: each row's is asked for up to three times (as the
+    /// row, and as the neighbour of the rows above and below), and reads the RGB image once.
+    memo: [Option<(usize, Candidate, Split)>; MEMO],
+    next: usize,
 }
+
+/// Splits remembered (rows are visited in order, so a few suffice).
+const MEMO: usize = 8;
+
+/// A split: shadow width and occluder shift, if any.
+type Split = Option<(usize, usize)>;
 
 /// How well one shadow width explains the RGB row under a hole.
 #[derive(Clone, Copy, Debug, Default)]
@@ -81,7 +91,7 @@ struct Layout {
 }
 
 /// A merged hole `[a, b)` of one row and its background's raw value.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Candidate {
     a: usize,
     b: usize,
@@ -122,6 +132,7 @@ impl ColourSplit {
             prefix: Prefix {
                 bg_count: vec![0; WIDTH + 1],
                 dist_sum: vec![0; WIDTH + 1],
+                ..Prefix::default()
             },
         }
     }
@@ -131,20 +142,26 @@ impl ColourSplit {
     /// the raw value its shadow implies, so the warp puts it where it stands.
     pub fn apply(&mut self, raw: &[u16], rgb: &[u8], labels: &mut [u8], filled: &mut [u16]) {
         let mut prefix = std::mem::take(&mut self.prefix);
+        prefix.memo = [None; MEMO];
         for v in 1..HEIGHT - 1 {
             let row = &raw[v * WIDTH..(v + 1) * WIDTH];
             let mut u = SIDE;
             while u < WIDTH - SIDE {
-                // Valid stretches 16 pixels at a time (branch-free test, vectorised).
-                if u + 16 <= WIDTH
-                    && !row[u..u + 16]
+                let i = v * WIDTH + u;
+                // Stretches without an OTHER label, 32 pixels at a time (branch-free test,
+                // vectorised): no candidate starts there. A hole running on past the stretch
+                // started in it on a label that is not OTHER, and is skipped whole, as below.
+                if u + 32 <= WIDTH
+                    && !labels[i..i + 32]
                         .iter()
-                        .fold(false, |any, &r| any | (r == NO_DEPTH))
+                        .fold(false, |any, &l| any | (l == OTHER))
                 {
-                    u += 16;
+                    u += 32;
+                    if u < WIDTH && row[u] == NO_DEPTH && row[u - 1] == NO_DEPTH {
+                        u = hole_span(row, u).1;
+                    }
                     continue;
                 }
-                let i = v * WIDTH + u;
                 if raw[i] != NO_DEPTH {
                     u += 1;
                     continue;
@@ -255,9 +272,14 @@ impl ColourSplit {
             b.min(a + 2 * self.widest(left) + OPEN_WINDOW)
         };
         let allowed = |l: u8| l == OTHER || (split_already && (l == ATTACHED || l == DETACHED));
-        let cut = (a..reach)
-            .find(|&u| raw[row + u] == NO_DEPTH && !allowed(labels[row + u]))
-            .unwrap_or(reach);
+        // Branch-free over the whole run first (vectorised); most runs are all allowed.
+        let (rs, ls) = (&raw[row + a..row + reach], &labels[row + a..row + reach]);
+        let blocked = |(&r, &l): (&u16, &u8)| (r == NO_DEPTH) & !allowed(l);
+        let cut = if rs.iter().zip(ls).fold(false, |any, p| any | blocked(p)) {
+            a + rs.iter().zip(ls).position(blocked).unwrap_or(reach - a)
+        } else {
+            reach
+        };
         if cut - a < MIN_HOLE || (behind && cut < b) {
             return None;
         }
@@ -304,9 +326,9 @@ impl ColourSplit {
             self.candidate(raw, labels, w, (a, b), w < v, c.behind)
         };
         let (above, below) = (neighbour(v - 1)?, neighbour(v + 1)?);
-        let s = self.split(rgb, v, c, prefix)?;
+        let s = self.split_memo(rgb, v, c, prefix)?;
         let mut agrees = |w: usize, n: Candidate| {
-            self.split(rgb, w, n, prefix)
+            self.split_memo(rgb, w, n, prefix)
                 .is_some_and(|(t, _)| t.abs_diff(s.0) <= ROWS_AGREE)
         };
         (agrees(v - 1, above) && agrees(v + 1, below)).then_some(s)
@@ -440,6 +462,23 @@ impl ColourSplit {
             && occluder_cols >= (OPEN_WINDOW / 2) as u32
             && dist_sum[o1] - dist_sum[lo] >= 2 * COLOUR_STEP * occluder_cols)
             .then_some(t)
+    }
+
+    /// [`ColourSplit::split`], remembered for the rows around the current one.
+    fn split_memo(
+        &self,
+        rgb: &[u8],
+        v: usize,
+        c: Candidate,
+        prefix: &mut Prefix,
+    ) -> Option<(usize, usize)> {
+        if let Some(&(_, _, hit)) = prefix.memo.iter().flatten().find(|m| m.0 == v && m.1 == c) {
+            return hit;
+        }
+        let result = self.split(rgb, v, c, prefix);
+        prefix.memo[prefix.next] = Some((v, c, result));
+        prefix.next = (prefix.next + 1) % MEMO;
+        result
     }
 
     /// RGB column and row of IR pixel (`u`, `v`) at raw value `raw` (one division).
