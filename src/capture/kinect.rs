@@ -33,6 +33,9 @@ const MAX_RGB_GAP_S: f64 = 0.1;
 /// small, and then at most this much; under fakenect RGB follows depth by 2 ms, and without the
 /// wait the colour split would see the previous RGB frame where a replay sees the nearest.
 const RGB_DUE_FRACTION: f64 = 0.1;
+/// Until two RGB frames have arrived there is no rate to tell when the next is due: the first
+/// depth frames wait this long for one.
+const FIRST_RGB_WAIT: Duration = Duration::from_millis(5);
 
 /// A live (or fakenect) Kinect v1.
 pub struct KinectSource {
@@ -155,6 +158,16 @@ impl KinectSource {
     fn wait_for_due_rgb(&mut self, depth_ts: u32) {
         let n = self.recent.len();
         if n < 2 {
+            // No rate yet (the first frames of a stream): one short wait, once or twice.
+            let newest_before = self
+                .recent
+                .back()
+                .is_none_or(|r| (r.ts.wrapping_sub(depth_ts) as i32) < 0);
+            if newest_before {
+                if let Ok(rgb) = self.stream.video.recv_timeout(FIRST_RGB_WAIT) {
+                    self.keep_rgb(rgb);
+                }
+            }
             return;
         }
         let (prev, newest) = (&self.recent[n - 2], &self.recent[n - 1]);
