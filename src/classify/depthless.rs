@@ -1,16 +1,24 @@
 //! Attached shadows of occluders that return no depth (black, glossy), split off by colour.
 //!
-//! Such an occluder and its attached shadow form one hole with the same background on both sides,
-//! so depth alone calls it all OTHER. The RGB camera still sees both: the shadow is background
-//! (lit by the room, only not by the projector), the occluder is whatever colour it is. For a
-//! shadow width `s` the occluder's disparity is `disp(background) + s` (eq. 3), which fixes where
-//! it appears in the RGB image: along the hole's row the RGB camera must see background, then
-//! the occluder, then background again (the strip the occluder hides from the IR camera). The
-//! split is the `s` whose layout matches the colours; it must clearly beat "no shadow at all" (a
-//! black poster) and agree with the rows above and below, because an occluder is a solid.
+//! Such an occluder and its attached shadow form one hole, so depth alone calls it all OTHER. The
+//! RGB camera still sees both: the shadow is background (lit by the room, only not by the
+//! projector), the occluder is whatever colour it is. For a shadow width `s` the occluder's
+//! disparity is `disp(background) + s` (eq. 3), which fixes where it appears in the RGB image:
+//! along the hole's row the RGB camera must see background, then the occluder (then background
+//! again, the strip the occluder hides from the IR camera, when the background closes the hole on
+//! the right). The split is the `s` whose layout matches the colours; it must clearly beat "no
+//! shadow at all" (a black poster) and agree with the rows above and below, because an occluder
+//! is a solid. Variants of the same reading:
 //!
-//! Runs on candidate holes only (OTHER, at least [`MIN_HOLE`] wide, one background on both
-//! sides), after the scanline and before the warp; nothing is allocated.
+//! - an *open* hole (running into the image border, another hole, a farther surface) is read from
+//!   its left: background, then at least as much occluder as the shadow is wide;
+//! - a hole whose left bound is a *nearer surface* hides part of the shadow, so the occluder's
+//!   shift comes from its right edge, which the RGB camera sees moved left by a third of it;
+//! - a hole with no shadow to split off still gets its occluder's depth from that right edge, so
+//!   the warp finds the alignment shadow beside it.
+//!
+//! Runs on holes the scanline left OTHER, at least 10 px wide, after the scanline and before the
+//! warp; nothing is allocated.
 
 use crate::calib::Calibration;
 use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
