@@ -147,8 +147,9 @@ impl ColourSplit {
     }
 
     /// Splits merged holes of frame `raw` (IR view) using the RGB image `rgb` (RGB8, 640·480):
-    /// the shadow part becomes ATTACHED in `labels`, and the occluder part of `filled` is set to
-    /// the raw value its shadow implies, so the warp puts it where it stands.
+    /// the shadow part becomes ATTACHED in `labels` (DETACHED behind an occluder narrower than
+    /// its shift), and the occluder part of `filled` is set to the raw value its shadow (or its
+    /// right edge) implies, so the warp puts it where it stands.
     pub fn apply(&mut self, raw: &[u16], rgb: &[u8], labels: &mut [u8], filled: &mut [u16]) {
         let mut prefix = std::mem::take(&mut self.prefix);
         prefix.memo = [None; MEMO];
