@@ -318,7 +318,7 @@ impl ColourSplit {
         v: usize,
         c: Candidate,
         prefix: &mut Prefix,
-    ) -> Option<(usize, usize)> {
+    ) -> Split {
         // Depth first (the raw rows are in cache, the RGB image often is not): the rows above and
         // below must hold a candidate hole through the same column (the middle of a closed hole,
         // near the start of an open one, which may run on far past the occluder).
@@ -418,8 +418,6 @@ impl ColourSplit {
             let i = 3 * x as usize;
             [row[i].into(), row[i + 1].into(), row[i + 2].into()]
         };
-        let dist =
-            |p: [i32; 3], q: [i32; 3]| p.iter().zip(&q).map(|(a, b)| a.abs_diff(*b)).sum::<u32>();
         // Background colour: the measured pixels right of the hole.
         let mut sum = [0i32; 3];
         for u in b..b + SIDE {
@@ -438,9 +436,37 @@ impl ColourSplit {
             bg_count[k + 1] = bg_count[k] + u32::from(dx < COLOUR_STEP);
             dist_sum[k + 1] = dist_sum[k] + dx;
         }
-        // For shift t the edge is at RGB column o1(t): occluder in the window left of it,
-        // background from it on. o1 falls as t grows; the best column first (largest of the
-        // fewest misses: the smallest shift), then its shift by bisection.
+        let (misses, t, o1) = self.fit_right_edge(&bg_count[..=n], x0, v, b, bg)?;
+        let lo = o1.saturating_sub(OPEN_WINDOW);
+        let occluder_cols = (o1 - lo) as u32;
+        // A clean edge, an alignment strip of at least two columns, an occluder plainly not
+        // background (a black poster's edge does not move: no strip).
+        let strip = (xb - x0) as usize - o1.min((xb - x0) as usize);
+        (misses <= 1
+            && strip >= 2
+            && occluder_cols >= (OPEN_WINDOW / 2) as u32
+            && dist_sum[o1] - dist_sum[lo] >= 2 * COLOUR_STEP * occluder_cols)
+            .then_some(t)
+    }
+
+    /// The occluder shift `t` whose right edge (IR column `b`, background `bg` beyond it) best
+    /// explains the RGB columns from `x0` (prefix counts of background-coloured columns in
+    /// `bg_count`, one more than the columns): at shift t the edge lands on column o1(t), with
+    /// occluder in the window left of it and background from it on. o1 falls as t grows; the best
+    /// column first (largest of the fewest misses: the smallest shift), then its shift by
+    /// bisection. Returns the misses, the shift and the column.
+    fn fit_right_edge(
+        &self,
+        bg_count: &[u32],
+        x0: i64,
+        v: usize,
+        b: usize,
+        bg: u16,
+    ) -> Option<(u32, usize, usize)> {
+        let (d_bg, widest, n) = (self.disp(bg), self.widest(bg), bg_count.len() - 1);
+        if widest < 3 {
+            return None;
+        }
         let edge = |t: usize| {
             let at = self.raw_at_disp(d_bg + t as f64);
             (ceil(self.project(b as f64 - 0.5, v, at).0) - x0).clamp(0, n as i64) as usize
@@ -462,26 +488,11 @@ impl ColourSplit {
                 hi = mid;
             }
         }
-        let lo = o1.saturating_sub(OPEN_WINDOW);
-        let occluder_cols = (o1 - lo) as u32;
-        // A clean edge, an alignment strip of at least two columns, an occluder plainly not
-        // background (a black poster's edge does not move: no strip).
-        let strip = (xb - x0) as usize - o1.min((xb - x0) as usize);
-        (misses <= 1
-            && strip >= 2
-            && occluder_cols >= (OPEN_WINDOW / 2) as u32
-            && dist_sum[o1] - dist_sum[lo] >= 2 * COLOUR_STEP * occluder_cols)
-            .then_some(t)
+        Some((misses, t, o1))
     }
 
     /// [`ColourSplit::split`], remembered for the rows around the current one.
-    fn split_memo(
-        &self,
-        rgb: &[u8],
-        v: usize,
-        c: Candidate,
-        prefix: &mut Prefix,
-    ) -> Option<(usize, usize)> {
+    fn split_memo(&self, rgb: &[u8], v: usize, c: Candidate, prefix: &mut Prefix) -> Split {
         if let Some(&(_, _, hit)) = prefix.memo.iter().flatten().find(|m| m.0 == v && m.1 == c) {
             return hit;
         }
@@ -507,13 +518,7 @@ impl ColourSplit {
     /// under the hole, when it explains nearly all of it and clearly better than no shadow; and
     /// the occluder's shift (its disparity above the background's), the same unless part of the
     /// shadow is hidden ([`Candidate::behind`]).
-    fn split(
-        &self,
-        rgb: &[u8],
-        v: usize,
-        c: Candidate,
-        prefix: &mut Prefix,
-    ) -> Option<(usize, usize)> {
+    fn split(&self, rgb: &[u8], v: usize, c: Candidate, prefix: &mut Prefix) -> Split {
         let colour = |x: f64, y: f64| -> Option<[i32; 3]> {
             let (x, y) = (round(x), round(y));
             if x < 0 || y < 0 || x >= WIDTH as i64 || y >= HEIGHT as i64 {
@@ -522,8 +527,6 @@ impl ColourSplit {
             let i = 3 * (y as usize * WIDTH + x as usize);
             Some([rgb[i].into(), rgb[i + 1].into(), rgb[i + 2].into()])
         };
-        let dist =
-            |p: [i32; 3], q: [i32; 3]| p.iter().zip(&q).map(|(a, b)| a.abs_diff(*b)).sum::<u32>();
         // Background colour: the mean of each side, which must agree.
         let side = |us: std::ops::Range<usize>| -> Option<[i32; 3]> {
             let mut sum = [0i32; 3];
@@ -620,19 +623,7 @@ impl ColourSplit {
         // the occluder's shift; the occluder's right edge gives the shift instead (the RGB camera
         // sees that edge move left by a third of it): background right of it, occluder left.
         let shift = if c.behind {
-            let mut fit: Option<(u32, usize)> = None;
-            for t in 3..=self.widest(c.bg) {
-                let at = self.raw_at_disp(d_bg + t as f64);
-                let o1 = (ceil(self.project(b as f64 - 0.5, v, at).0) - x0).clamp(0, n as i64);
-                let o1 = o1 as usize;
-                let lo = o1.saturating_sub(OPEN_WINDOW);
-                let misses = (bg_count[o1] - bg_count[lo])
-                    + ((n - o1) as u32 - (bg_count[n] - bg_count[o1]));
-                if fit.is_none_or(|(m, _)| misses < m) {
-                    fit = Some((misses, t));
-                }
-            }
-            Some(fit?.1)
+            Some(self.fit_right_edge(&bg_count[..=n], x0, v, b, c.bg)?.1)
         } else {
             None
         };
@@ -715,6 +706,11 @@ impl ColourSplit {
         (clear && 10 * l.hits >= 9 * n && l.hits >= no_shadow + l.shadow_cols / 2 + 2)
             .then_some((s, shift.unwrap_or(s)))
     }
+}
+
+/// Colour distance: the sum of |ΔR| + |ΔG| + |ΔB|.
+fn dist(p: [i32; 3], q: [i32; 3]) -> u32 {
+    p.iter().zip(&q).map(|(a, b)| a.abs_diff(*b)).sum()
 }
 
 /// `x.round()` as an integer, without the libm call the baseline x86-64 target makes for it
