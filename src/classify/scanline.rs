@@ -192,7 +192,7 @@ pub fn classify_row(
         match (left, right) {
             (Some(sa), Some(sb)) => {
                 let next = &below[..below.len().min(n)];
-                classify_bounded(p, raw, *h, sa, sb, far, [prev, next], labels, filled)
+                classify_bounded(p, raw, *h, sa, sb, far, above, [prev, next], labels, filled)
             }
             (None, Some(sb)) => classify_left_border(p, raw, *h, sb, above, below, labels, filled),
             (Some(sa), None) => fill(filled, *h, sa.far),
@@ -370,6 +370,7 @@ fn classify_bounded(
     sa: Bound,
     sb: Bound,
     far: u16,
+    above: &[u16],
     rows: [&[u16]; 2],
     labels: &mut [u8],
     filled: &mut [u16],
@@ -380,17 +381,67 @@ fn classify_bounded(
     let w = p.disp(sb.near) - p.disp(sa.far);
     if w >= p.min_step && !same_surface(p, raw, h, sa, sb) {
         label_attached(p, raw, h, w, rows, labels);
+        if labels[h.start] == OTHER {
+            hidden_background(p, raw, h, sa, sb, above, rows, labels, filled);
+        }
         beyond_range(raw, h, far, labels);
         return;
     }
     match detached(p, raw, h, sa, sb, rows) {
-        Detached::No => {}
+        Detached::No => hidden_background(p, raw, h, sa, sb, above, rows, labels, filled),
         Detached::Measured => set(labels, raw, h.start, h.end, DETACHED),
         Detached::Depthless { occluder, raw: at } => {
             set(labels, raw, h.start, h.end, DETACHED);
             // The occluder's hole is warped at the depth its shadow implies, so the RGB view
             // sees it where it stands and finds its alignment shadow; `fill` never overwrites.
             fill(filled, occluder, at);
+        }
+    }
+}
+
+/// A hole too wide for Sb's shadow on Sa, or whose Sa is no farther than Sb: when Sa is an
+/// object's right edge with a farther background behind it, the hole can be Sb's attached shadow
+/// on that background, its left part hidden by Sa (eq. 3 with the background's disparity; the
+/// visible part is at most as wide). The background is the farthest of the last valid pixels
+/// above the hole's columns, and must lie behind Sa.
+#[allow(clippy::too_many_arguments)]
+fn hidden_background(
+    p: &ScanParams,
+    raw: &[u16],
+    h: Run,
+    sa: Bound,
+    sb: Bound,
+    above: &[u16],
+    rows: [&[u16]; 2],
+    labels: &mut [u8],
+    filled: &mut [u16],
+) {
+    let from_above = above[h.start..h.end]
+        .iter()
+        .copied()
+        .filter(|&r| r != NO_DEPTH)
+        .max();
+    // What the hole's own columns show above it: a surface there that is Sb itself (a hole
+    // under an object's overhang) leaves no room for a shadow. The surface right of Sb is no
+    // stand-in: it is as often a second object as the background.
+    let Some(bg) = from_above else {
+        return;
+    };
+    // Sa must be a surface of its own, off Sb's (a dropout inside one surface is not a shadow)
+    // and before the background (else nothing hides part of the shadow).
+    if (p.disp(sa.near) - p.disp(sb.near)).abs() < p.min_step
+        || p.disp(sa.near) - p.disp(bg) < p.min_step
+    {
+        return;
+    }
+    let w = p.disp(sb.near) - p.disp(bg);
+    if w >= p.min_step && (h.end - h.start) as f32 <= w + p.over {
+        label_attached(p, raw, h, w, rows, labels);
+        // The shadow lies on the background, not on Sa (`fill` keeps the first value).
+        for (f, &r) in filled[h.start..h.end].iter_mut().zip(&raw[h.start..h.end]) {
+            if r == NO_DEPTH {
+                *f = bg;
+            }
         }
     }
 }
@@ -884,6 +935,39 @@ mod tests {
         let row = wall_with_holes(&c, &[(200, 208), (300, 308)]);
         let (labels, _) = run_with_neighbours(&row, &row, &row);
         assert!(labels[200..308].iter().all(|&l| l != DETACHED));
+    }
+
+    #[test]
+    fn attached_shadow_partly_hidden_by_a_nearer_rod() {
+        // Wall at 3 m, box at 1 m from column 400: its shadow on the wall is f·b·(1/1 − 1/3) =
+        // 29.1 px wide, [371, 400). A rod at 0.8 m over [380, 386) hides the left part of it (and
+        // casts its own 40 px shadow left of it). The visible part [386, 400) lies between a
+        // nearer rod and the box: eq. (3) with Sa (the rod) gives nothing; with the wall seen
+        // above those columns it is the box's attached shadow.
+        let (c, p) = params();
+        let mut row = wall_with_holes(&c, &[(340, 380), (386, 400)]);
+        row[380..386].fill(raw_at(&c, 0.8));
+        row[400..500].fill(raw_at(&c, 1.0));
+        let classify = |memory: &[u16]| {
+            let (mut labels, mut filled) = (vec![VALID; WIDTH], vec![0; WIDTH]);
+            classify_row(&p, &row, memory, &[], &[], 2046, &mut labels, &mut filled);
+            (labels, filled)
+        };
+        let (labels, filled) = classify(&wall_with_holes(&c, &[]));
+        assert!(
+            labels[386..400].iter().all(|&l| l == ATTACHED),
+            "{:?}",
+            &labels[380..402]
+        );
+        assert_eq!(filled[390], raw_at(&c, 3.0), "the shadow lies on the wall");
+        // Nothing known above: no background to cast on, so the hole stays OTHER.
+        let (labels, _) = classify(&[NO_DEPTH; WIDTH]);
+        assert!(labels[386..400].iter().all(|&l| l == OTHER));
+        // The box itself above those columns (the hole is under its overhang): no shadow.
+        let mut memory = wall_with_holes(&c, &[]);
+        memory[380..400].fill(raw_at(&c, 1.0));
+        let (labels, _) = classify(&memory);
+        assert!(labels[386..400].iter().all(|&l| l == OTHER));
     }
 
     #[test]
