@@ -219,6 +219,38 @@ fn black_box_shadow_is_split_off_its_hole_by_colour() {
 }
 
 #[test]
+fn black_box_split_survives_the_sensors_ragged_shadow_edge() {
+    // The same black box through the Kinect sensor model: its widening moves each row's hole
+    // start by 0–3 px at random, so the shadow width changes from row to row while the box's
+    // edge does not. Nearly every row must still be split, at f·b·(1/1 − 1/3) = 29.1 px plus
+    // the widening.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::box_before_wall(1.0, 3.0);
+    scene.objects[1].material = umbra::synth::Material::black();
+    let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 11);
+    let out = classify_rgb(&calib, &frame);
+    let w = calib.fb() * (1.0 - 1.0 / 3.0);
+    let (mut rows, mut split) = (0, 0);
+    for v in 0..HEIGHT {
+        let truth = count_in_row(&frame.ir_labels, v, ATTACHED);
+        if truth == 0 {
+            continue;
+        }
+        rows += 1;
+        let n = count_in_row(&out.ir_labels, v, ATTACHED);
+        if n > 0 {
+            split += 1;
+            assert!(
+                n as f64 >= w - 2.5 && n as f64 <= w + 5.5,
+                "row {v}: {n} attached px, hand-computed {w:.2} plus 0–3 px of widening"
+            );
+        }
+    }
+    assert!(rows > 100, "the box spans {rows} rows");
+    assert!(10 * split >= 9 * rows, "{split} of {rows} rows split");
+}
+
+#[test]
 fn black_box_across_the_right_border_is_split_from_its_left_side() {
     // Box from x = 0.3 to 0.7 m at 1 m: the image ends at (640 − cx)/fx = 0.56 m, so the hole runs
     // off the border and only the wall on its left bounds it. The projector (x = 0.075 m) sees the

@@ -34,7 +34,9 @@ const COLOUR_STEP: u32 = 60;
 const SIDES_AGREE: u32 = 45;
 /// Valid runs this short inside a hole are noise, stepped over.
 const MAX_ISLAND: usize = 2;
-/// Shadow widths of neighbouring rows may differ by this much (pixels).
+/// The occluder's left edge (hole start plus shadow width) may move by this much (pixels) from
+/// row to row. Not the widths themselves: the sensor's widening moves each row's hole start by
+/// 0–3 px, the occluder's edge stays put.
 const ROWS_AGREE: usize = 3;
 /// Occluder shifts read from the right edges of neighbouring rows may differ by this much (one
 /// RGB column is about 3.4 px of shift).
@@ -339,7 +341,7 @@ impl ColourSplit {
         let s = self.split_memo(rgb, v, c, prefix)?;
         let mut agrees = |w: usize, n: Candidate| {
             self.split_memo(rgb, w, n, prefix)
-                .is_some_and(|(t, _)| t.abs_diff(s.0) <= ROWS_AGREE)
+                .is_some_and(|(t, _)| (n.a + t).abs_diff(c.a + s.0) <= ROWS_AGREE)
         };
         (agrees(v - 1, above) && agrees(v + 1, below)).then_some(s)
     }
