@@ -151,6 +151,38 @@ fn black_rod_without_depth_still_casts_a_detached_shadow() {
     assert!(any.precision.unwrap() >= 0.98, "IR any shadow {any:?}");
 }
 
+#[test]
+fn two_black_rods_whose_holes_chain_are_told_apart_by_colour() {
+    // Two black rods, 7 px wide, at 1 m before a wall at 3 m, 12 px apart (u ≈ 313 and 325).
+    // Each shadow lies f·b·(1/1 − 1/3) = 29.1 px left of its rod: a row reads shadow A
+    // (≈ 284), shadow B (≈ 296), rod A, rod B, four like holes 12 px apart, and depth alone
+    // cannot say which are shadows (A's shadow pairs with B's as well as with rod A). The RGB
+    // camera sees wall in the shadows and black on the rods.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::rod_before_wall(0.0, 1.0, 0.006, 3.0);
+    scene.objects[1].material = umbra::synth::Material::black();
+    let rod_b = Scene::rod_before_wall(16.0 / calib.depth.fx, 1.0, 0.006, 3.0).objects[1].clone();
+    scene.push("rod", rod_b.shape, umbra::synth::Material::black());
+    let (mut depth_only, mut with_rgb) = (Confusion::default(), Confusion::default());
+    for seed in 0..3 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 60 + seed);
+        let truth = (0..WIDTH).filter(|&u| frame.ir_labels[240 * WIDTH + u] == DETACHED);
+        assert!(truth.count() >= 12, "the simulator casts both shadows");
+        depth_only.add(&frame.ir_labels, &classify(&calib, &frame).ir_labels);
+        with_rgb.add(&frame.ir_labels, &classify_rgb(&calib, &frame).ir_labels);
+    }
+    let r = depth_only.class(DETACHED).recall.unwrap_or(0.0);
+    assert!(r < 0.5, "depth alone pairs them: recall {r:.3}");
+    at_least(
+        &with_rgb,
+        Some(DETACHED),
+        0.9,
+        "IR detached of two chained black rods",
+    );
+    let any = with_rgb.any_shadow();
+    assert!(any.precision.unwrap() >= 0.98, "IR any shadow {any:?}");
+}
+
 /// Classifies with the frame's RGB image (the colour split of depthless occluders' shadows).
 fn classify_rgb(calib: &Calibration, frame: &SynthFrame) -> Classified {
     let mut out = Classified::default();

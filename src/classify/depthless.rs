@@ -15,13 +15,17 @@
 //! - a hole whose left bound is a *nearer surface* hides part of the shadow, so the occluder's
 //!   shift comes from its right edge, which the RGB camera sees moved left by a third of it;
 //! - a hole with no shadow to split off still gets its occluder's depth from that right edge, so
-//!   the warp finds the alignment shadow beside it.
+//!   the warp finds the alignment shadow beside it;
+//! - a depthless occluder's *detached* shadow, a separate hole, is paired with the occluder's
+//!   hole by colour where depth alone finds several candidates (`depthless/pairs.rs`).
 //!
-//! Runs on holes the scanline left OTHER, at least 10 px wide, after the scanline and before the
-//! warp; nothing is allocated.
+//! Runs on holes the scanline left OTHER (splits only on those at least 10 px wide), after the
+//! scanline and before the warp; nothing is allocated.
 
 use crate::calib::Calibration;
 use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
+
+mod pairs;
 
 /// Narrowest merged hole considered (pixels): a shadow and an occluder of 5 px each. Narrower
 /// ones are mostly the speckle of dark clutter on real frames, and cost time for nothing.
@@ -79,6 +83,8 @@ struct Prefix {
     /// row, and as the neighbour of the rows above and below), and reads the RGB image once.
     memo: [Option<(usize, Candidate, Split)>; MEMO],
     next: usize,
+    /// Recent holes of the row, for [`ColourSplit::detached_pair`].
+    recent: pairs::Recent,
 }
 
 /// Splits remembered (rows are visited in order, so a few suffice).
@@ -155,6 +161,7 @@ impl ColourSplit {
     pub fn apply(&mut self, raw: &[u16], rgb: &[u8], labels: &mut [u8], filled: &mut [u16]) {
         let mut prefix = std::mem::take(&mut self.prefix);
         prefix.memo = [None; MEMO];
+        prefix.recent = pairs::Recent::default();
         for v in 1..HEIGHT - 1 {
             let row = &raw[v * WIDTH..(v + 1) * WIDTH];
             let mut u = SIDE;
@@ -181,6 +188,10 @@ impl ColourSplit {
                 // Each hole is visited once: from its first pixel, on to its end.
                 let (a, b) = hole_span(row, u);
                 if labels[i] != OTHER {
+                    u = b.max(u + 1);
+                    continue;
+                }
+                if self.detached_pair(raw, rgb, labels, filled, &mut prefix.recent, v, (a, b)) {
                     u = b.max(u + 1);
                     continue;
                 }

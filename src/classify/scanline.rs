@@ -416,22 +416,24 @@ fn hidden_background(
     labels: &mut [u8],
     filled: &mut [u16],
 ) {
+    // Sa must be a surface of its own, off Sb's (a dropout inside one surface is not a shadow:
+    // most holes of a real frame stop here).
+    if (p.disp(sa.near) - p.disp(sb.near)).abs() < p.min_step {
+        return;
+    }
+    // What the hole's own columns show above it: a surface there that is Sb itself (a hole
+    // under an object's overhang) leaves no room for a shadow. The surface right of Sb is no
+    // stand-in: it is as often a second object as the background.
     let from_above = above[h.start..h.end]
         .iter()
         .copied()
         .filter(|&r| r != NO_DEPTH)
         .max();
-    // What the hole's own columns show above it: a surface there that is Sb itself (a hole
-    // under an object's overhang) leaves no room for a shadow. The surface right of Sb is no
-    // stand-in: it is as often a second object as the background.
     let Some(bg) = from_above else {
         return;
     };
-    // Sa must be a surface of its own, off Sb's (a dropout inside one surface is not a shadow)
-    // and before the background (else nothing hides part of the shadow).
-    if (p.disp(sa.near) - p.disp(sb.near)).abs() < p.min_step
-        || p.disp(sa.near) - p.disp(bg) < p.min_step
-    {
+    // Sa must lie before the background, else nothing hides part of the shadow.
+    if p.disp(sa.near) - p.disp(bg) < p.min_step {
         return;
     }
     let w = p.disp(sb.near) - p.disp(bg);

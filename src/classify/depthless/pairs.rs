@@ -1,0 +1,202 @@
+//! Detached shadows of depthless occluders that depth alone cannot pair.
+//!
+//! A black rod before a wall leaves two holes in a row: its detached shadow and, `shift` pixels to
+//! its right, the rod itself (eqs. 4–5 with the occluder's disparity unknown). The scanline pairs
+//! them when nothing else is near; with two rods (shadow, shadow, rod, rod) or another shadow
+//! within reach, the holes chain up and depth cannot tell shadows from occluders, so it leaves
+//! them all OTHER. The RGB camera can: a shadow shows the background's colour, an occluder its
+//! own. A hole is a detached shadow when it looks like the background and a hole to its right,
+//! of a width the shadow could have, looks unlike it at the depth the shift implies; the rows
+//! above and below must hold the same pair, because an occluder is a solid.
+//!
+//! Holes are met left to right, so each one is tried as the occluder of the recent holes of its
+//! row: no search along the row, which keeps the many holes of a real frame cheap.
+
+use super::{ceil, dist, hole_span, round, ColourSplit, COLOUR_STEP, SIDE, SIDES_AGREE};
+use crate::labels::{DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
+
+/// Narrowest shadow and occluder holes considered (pixels), as the scanline's.
+const MIN_WIDTH: usize = 3;
+/// How much wider than its occluder a shadow may look: the sensor's widening (the scanline's
+/// default `attached_over_px`).
+const OVER: usize = 8;
+/// Both holes lie on one background: their sides' disparities may differ by this much (px).
+const SAME_BG: f64 = 2.0;
+/// Shifts of the rows above and below may differ by this much (pixels).
+const ROWS_AGREE: usize = 2;
+/// Holes of the current row remembered as shadow candidates.
+const RECENT: usize = 8;
+
+/// A hole `[a, b)` closed on both sides by one background, raw value `bg`.
+#[derive(Clone, Copy, Debug, Default)]
+struct Closed {
+    a: usize,
+    b: usize,
+    bg: u16,
+}
+
+/// The last few closed holes of the row being scanned (scratch, reused).
+#[derive(Clone, Debug, Default)]
+pub(super) struct Recent {
+    row: usize,
+    holes: [Closed; RECENT],
+    len: usize,
+}
+
+impl ColourSplit {
+    /// Tries the hole `[a, b)` of row `v` as the depthless occluder of a recent hole left of it.
+    /// On success that hole becomes DETACHED, this one's pixels of `filled` get the depth the
+    /// shift implies, and true is returned. A closed hole that pairs with none is remembered.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn detached_pair(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        labels: &mut [u8],
+        filled: &mut [u16],
+        recent: &mut Recent,
+        v: usize,
+        (a, b): (usize, usize),
+    ) -> bool {
+        if recent.row != v {
+            (recent.row, recent.len) = (v, 0);
+        }
+        let row = &raw[v * WIDTH..(v + 1) * WIDTH];
+        let Some(o) = self.closed(row, (a, b)) else {
+            return false;
+        };
+        for k in (0..recent.len).rev() {
+            let h = recent.holes[k];
+            let Some(shift) = self.pair(h, o) else {
+                continue;
+            };
+            if labels[v * WIDTH + h.a..v * WIDTH + h.b]
+                .iter()
+                .zip(&row[h.a..h.b])
+                .any(|(&l, &r)| r == NO_DEPTH && l != OTHER)
+                || !self.repeats(raw, v, h, o, shift)
+                || !self.colours_fit(rgb, v, h, o, shift)
+            {
+                continue;
+            }
+            let base = v * WIDTH;
+            for u in h.a..h.b {
+                if raw[base + u] == NO_DEPTH {
+                    labels[base + u] = DETACHED;
+                }
+            }
+            let at = self.raw_at_disp(self.disp(o.bg) + shift as f64);
+            filled[base + o.a..base + o.b].fill(at);
+            return true;
+        }
+        if recent.len == RECENT {
+            recent.holes.copy_within(1.., 0);
+            recent.len -= 1;
+        }
+        recent.holes[recent.len] = o;
+        recent.len += 1;
+        false
+    }
+
+    /// `[a, b)` as a closed hole: wide enough, with valid pixels of one depth on both sides.
+    fn closed(&self, row: &[u16], (a, b): (usize, usize)) -> Option<Closed> {
+        if a < SIDE || b + SIDE > WIDTH || b - a < MIN_WIDTH {
+            return None;
+        }
+        let (l, r) = (row[a - 1], row[b]);
+        (l != NO_DEPTH && r != NO_DEPTH && (self.disp(l) - self.disp(r)).abs() <= SAME_BG)
+            .then(|| Closed { a, b, bg: l.max(r) })
+    }
+
+    /// The shift of occluder `o` casting shadow `h`, when the geometry allows it: one background,
+    /// a shadow as wide as the occluder or up to the widening wider, the right edges `shift`
+    /// apart, within the sensor's range.
+    fn pair(&self, h: Closed, o: Closed) -> Option<usize> {
+        let (hw, ow) = (h.b - h.a, o.b - o.a);
+        let shift = o.b.checked_sub(h.b)?;
+        (h.b <= o.a
+            && hw + 1 >= ow
+            && hw <= ow + OVER
+            && (self.disp(h.bg) - self.disp(o.bg)).abs() <= SAME_BG
+            && self.disp(h.bg) + shift as f64 <= self.max_disp)
+            .then_some(shift)
+    }
+
+    /// The rows above and below hold the same pair: closed holes through both centres, shifted
+    /// alike.
+    fn repeats(&self, raw: &[u16], v: usize, h: Closed, o: Closed, shift: usize) -> bool {
+        [v - 1, v + 1].into_iter().all(|w| {
+            let row = &raw[w * WIDTH..(w + 1) * WIDTH];
+            let hole = |u: usize| (row[u] == NO_DEPTH).then(|| hole_span(row, u));
+            let (Some(hs), Some(os)) = (hole((h.a + h.b) / 2), hole((o.a + o.b) / 2)) else {
+                return false;
+            };
+            let (Some(h2), Some(o2)) = (self.closed(row, hs), self.closed(row, os)) else {
+                return false;
+            };
+            self.pair(h2, o2)
+                .is_some_and(|t| t.abs_diff(shift) <= ROWS_AGREE)
+        })
+    }
+
+    /// The shadow looks like the background beside it (its left third), and the occluder, where
+    /// the RGB camera sees it at the depth the shift implies, plainly does not.
+    fn colours_fit(&self, rgb: &[u8], v: usize, h: Closed, o: Closed, shift: usize) -> bool {
+        let colour_at = |x: f64, y: f64| -> Option<[i32; 3]> {
+            let (x, y) = (round(x), round(y));
+            if x < 0 || y < 0 || x >= WIDTH as i64 || y >= HEIGHT as i64 {
+                return None;
+            }
+            let i = 3 * (y as usize * WIDTH + x as usize);
+            Some([rgb[i].into(), rgb[i + 1].into(), rgb[i + 2].into()])
+        };
+        let mean = |us: std::ops::Range<usize>, bg: u16| -> Option<[i32; 3]> {
+            let mut sum = [0i32; 3];
+            for u in us.clone() {
+                let (x, y) = self.project(u as f64, v, bg);
+                let p = colour_at(x, y)?;
+                (0..3).for_each(|k| sum[k] += p[k]);
+            }
+            Some(sum.map(|s| s / us.len() as i32))
+        };
+        // The background's colour left of the shadow (right of it the RGB camera may see a
+        // nearer occluder moved left over it), and right too when that agrees.
+        let Some(left) = mean(h.a - SIDE..h.a, h.bg) else {
+            return false;
+        };
+        let bg = match mean(h.b..h.b + SIDE, h.bg) {
+            Some(right) if dist(left, right) <= SIDES_AGREE => {
+                std::array::from_fn(|k| (left[k] + right[k]) / 2)
+            }
+            _ => left,
+        };
+        // The occluder's RGB columns.
+        let at = self.raw_at_disp(self.disp(o.bg) + shift as f64);
+        let (x0, y) = self.project(o.a as f64 - 0.5, v, at);
+        let (x1, _) = self.project(o.b as f64 - 0.5, v, at);
+        let (x0, x1) = (ceil(x0), ceil(x1));
+        if x1 <= x0 {
+            return false;
+        }
+        let (mut far, mut sum) = (0u32, 0u32);
+        for x in x0..x1 {
+            let Some(p) = colour_at(x as f64, y) else {
+                return false;
+            };
+            let d = dist(p, bg);
+            far += u32::from(d >= COLOUR_STEP);
+            sum += d;
+        }
+        let cols = (x1 - x0) as u32;
+        if 2 * far < cols + 1 || sum < 2 * COLOUR_STEP * cols {
+            return false;
+        }
+        // The shadow's left third: the RGB camera may see a nearer occluder right of it moved
+        // left over the rest. (The occluder's test above is what tells a shadow from a rod: a
+        // thin rod's own hole shows background too, its image being moved left of it.)
+        (h.a..h.a + (h.b - h.a).div_ceil(3)).all(|u| {
+            let (x, y) = self.project(u as f64, v, h.bg);
+            colour_at(x, y).is_some_and(|p| dist(p, bg) < COLOUR_STEP)
+        })
+    }
+}
