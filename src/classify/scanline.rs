@@ -110,12 +110,13 @@ fn classify_frame_body(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &
     // the left border, where the row itself has no Sa.
     let mut column_memory = [NO_DEPTH; WIDTH];
     let far = farthest_measured(raw);
+    let mut holes = [Run::default(); MAX_RUNS];
     let rows = raw
         .chunks_exact(WIDTH)
         .zip(labels.chunks_exact_mut(WIDTH))
         .zip(filled.chunks_exact_mut(WIDTH));
     for (v, ((row, lab), fill)) in rows.enumerate() {
-        classify_row(
+        classify_row_with(
             p,
             row,
             &column_memory,
@@ -124,6 +125,7 @@ fn classify_frame_body(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &
             far,
             lab,
             fill,
+            &mut holes,
         );
         for (m, &r) in column_memory.iter_mut().zip(row) {
             *m = if r != NO_DEPTH { r } else { *m };
@@ -176,14 +178,32 @@ pub fn classify_row(
     labels: &mut [u8],
     filled: &mut [u16],
 ) {
+    let mut holes = [Run::default(); MAX_RUNS];
+    classify_row_with(p, raw, above, prev, below, far, labels, filled, &mut holes);
+}
+
+/// [`classify_row`] with the caller's scratch for the row's hole runs (zeroing 5 KB per row
+/// cost a tenth of the whole scanline).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn classify_row_with(
+    p: &ScanParams,
+    raw: &[u16],
+    above: &[u16],
+    prev: &[u16],
+    below: &[u16],
+    far: u16,
+    labels: &mut [u8],
+    filled: &mut [u16],
+    holes: &mut [Run; MAX_RUNS],
+) {
     let n = raw.len();
     filled.copy_from_slice(raw);
     for (l, &r) in labels.iter_mut().zip(raw) {
         *l = u8::from(r == NO_DEPTH) * OTHER; // VALID is 0; arithmetic, so it vectorises
     }
     snap_flying_pixels(p, raw, filled);
-    let mut holes = [Run::default(); MAX_RUNS];
-    let count = find_holes(raw, &mut holes);
+    let count = find_holes(raw, holes);
     let holes = merge_islands(p, raw, &mut holes[..count]);
 
     for h in holes.iter() {
