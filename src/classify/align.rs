@@ -55,8 +55,6 @@ pub struct Warp {
     target: Vec<u32>,
     /// Packed z-buffer key of each pixel of the current source row; `EMPTY` for no depth.
     keys: Vec<u32>,
-    /// The previous z-buffer row, kept for the vertical crack test after the row was reset.
-    prev_row: Vec<u32>,
     /// `(u & 1) << LABEL_BITS` per column, for the tie-break bit.
     parity: Vec<u32>,
     /// 0.0, 1.0, … 639.0: column numbers as floats (usize → f32 does not vectorise).
@@ -94,7 +92,6 @@ impl Warp {
             keys: vec![EMPTY; WIDTH],
             columns: (0..WIDTH).map(|u| u as f32).collect(),
             parity: (0..WIDTH).map(|u| ((u & 1) as u32) << LABEL_BITS).collect(),
-            prev_row: vec![EMPTY; WIDTH],
         }
     }
 
@@ -140,26 +137,27 @@ impl Warp {
 
     #[inline(always)]
     fn apply_body(&mut self, filled: &[u16], ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
-        // The z-buffer is all EMPTY here: allocated so, and reset row by row by `finish_row`.
+        // The z-buffer is all EMPTY here: allocated so, and reset row by row below.
         for v in 0..HEIGHT {
             let row = v * WIDTH..(v + 1) * WIDTH;
             self.project_row(v, &filled[row.clone()], &ir[row.clone()]);
             self.splat_row(v, &filled[row.clone()], &ir[row]);
         }
-        // One pass over the z-buffer while each row is in L1: fill cracks, unpack, reset.
+        // One pass over the z-buffer while each row is in L1: fill cracks, unpack, and reset the
+        // row above (the crack test of this row still read it).
         for v in 0..HEIGHT {
             let row = v * WIDTH..(v + 1) * WIDTH;
             let (done, rest) = self.zbuf.split_at_mut(row.start);
             let (cur, below) = rest.split_at_mut(WIDTH);
-            let above = (v > 0).then_some(&self.prev_row[..]);
+            let mut above = (v > 0).then(|| &mut done[row.start - WIDTH..]);
             let below = (v + 1 < HEIGHT).then(|| &below[..WIDTH]);
-            fill_cracks_row(cur, above, below);
+            fill_cracks_row(cur, above.as_deref(), below);
             unpack_row(cur, &mut rgb[row.clone()], &mut mm[row]);
-            self.prev_row.copy_from_slice(cur);
-            cur.fill(EMPTY);
-            let _ = done;
+            if let Some(above) = above.as_mut() {
+                above.fill(EMPTY);
+            }
         }
-        self.zbuf[PIXELS] = EMPTY;
+        self.zbuf[PIXELS - WIDTH..].fill(EMPTY);
     }
 
     /// Projects every pixel of source row `v` into the RGB image: `n = R·ray(u) + t·iz`, target
