@@ -183,6 +183,42 @@ fn two_black_rods_whose_holes_chain_are_told_apart_by_colour() {
     assert!(any.precision.unwrap() >= 0.98, "IR any shadow {any:?}");
 }
 
+#[test]
+fn alignment_strip_starts_at_the_colour_edge_of_the_box() {
+    // The hand-computed box, through the Kinect sensor model (noise, mixed pixels at edges). Its
+    // right front edge (x = 0.2 m, z = 1 m) is at f_rgb·(0.2 − 0.025)/1 + cx_rgb = 416.4 in the
+    // RGB image, so the alignment strip starts at column 417 in every row. Depth places that
+    // edge only to within the IR pixel it fell in; the colour edge fixes it.
+    let calib = Calibration::nyu_default();
+    let first = (calib.rgb.fx * 0.175 + calib.rgb.cx).ceil() as usize;
+    assert_eq!(first, 417);
+    let (mut rows, mut exact_rgb, mut exact_depth) = (0, 0, 0);
+    for seed in 0..3 {
+        let frame = render_frame(
+            &Scene::box_before_wall(1.0, 3.0),
+            &calib,
+            &SensorModel::kinect(),
+            80 + seed,
+        );
+        let (depth_only, with_rgb) = (classify(&calib, &frame), classify_rgb(&calib, &frame));
+        let start =
+            |labels: &[u8], v: usize| (380..WIDTH).find(|&x| labels[v * WIDTH + x] == ALIGNMENT);
+        for v in 0..HEIGHT {
+            if start(&frame.rgb_labels, v) != Some(first) {
+                continue; // rows above and below the box
+            }
+            rows += 1;
+            exact_rgb += usize::from(start(&with_rgb.rgb_labels, v) == Some(first));
+            exact_depth += usize::from(start(&depth_only.rgb_labels, v) == Some(first));
+        }
+    }
+    assert!(rows > 300, "{rows} rows cross the box");
+    assert!(
+        100 * exact_rgb >= 97 * rows,
+        "{exact_rgb} of {rows} rows start at column {first} (depth alone: {exact_depth})"
+    );
+}
+
 /// Classifies with the frame's RGB image (the colour split of depthless occluders' shadows).
 fn classify_rgb(calib: &Calibration, frame: &SynthFrame) -> Classified {
     let mut out = Classified::default();

@@ -105,43 +105,79 @@ impl Warp {
     /// scanline classifier), `ir` the IR-view labels; writes RGB-view labels and registered depth
     /// in millimetres (0 where the RGB pixel has no measured depth).
     pub fn apply(&mut self, filled: &[u16], ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
+        self.apply_with_colour(filled, ir, None, rgb, mm);
+    }
+
+    /// [`Warp::apply`] with the RGB image (RGB8, 640·480·3) the labels are for: where a depth
+    /// edge lands within a pixel of a colour edge, the label boundary follows the colour edge
+    /// (the warp places an edge only to within the IR pixel it fell in).
+    pub fn apply_with_colour(
+        &mut self,
+        filled: &[u16],
+        ir: &[u8],
+        colour: Option<&[u8]>,
+        rgb: &mut [u8],
+        mm: &mut [u16],
+    ) {
         assert!(
             filled.len() == PIXELS
                 && ir.len() == PIXELS
                 && rgb.len() == PIXELS
                 && mm.len() == PIXELS
+                && colour.is_none_or(|c| c.len() == 3 * PIXELS)
         );
         // SAFETY: each build runs only when the CPU reported its features at construction.
         #[cfg(target_arch = "x86_64")]
         match self.simd {
-            Simd::Avx512 => return unsafe { self.apply_avx512(filled, ir, rgb, mm) },
-            Simd::Avx2 => return unsafe { self.apply_avx2(filled, ir, rgb, mm) },
+            Simd::Avx512 => return unsafe { self.apply_avx512(filled, ir, colour, rgb, mm) },
+            Simd::Avx2 => return unsafe { self.apply_avx2(filled, ir, colour, rgb, mm) },
             Simd::Baseline => {}
         }
-        self.apply_body(filled, ir, rgb, mm);
+        self.apply_body(filled, ir, colour, rgb, mm);
     }
 
     /// The same code compiled for AVX2+FMA: eight pixels per instruction in the projection.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn apply_avx2(&mut self, filled: &[u16], ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
-        self.apply_body(filled, ir, rgb, mm);
+    unsafe fn apply_avx2(
+        &mut self,
+        filled: &[u16],
+        ir: &[u8],
+        colour: Option<&[u8]>,
+        rgb: &mut [u8],
+        mm: &mut [u16],
+    ) {
+        self.apply_body(filled, ir, colour, rgb, mm);
     }
 
     /// The same code compiled for AVX-512: sixteen pixels per instruction in the projection.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f,avx512bw,avx512vl,avx512dq,avx2,fma")]
-    unsafe fn apply_avx512(&mut self, filled: &[u16], ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
-        self.apply_body(filled, ir, rgb, mm);
+    unsafe fn apply_avx512(
+        &mut self,
+        filled: &[u16],
+        ir: &[u8],
+        colour: Option<&[u8]>,
+        rgb: &mut [u8],
+        mm: &mut [u16],
+    ) {
+        self.apply_body(filled, ir, colour, rgb, mm);
     }
 
     #[inline(always)]
-    fn apply_body(&mut self, filled: &[u16], ir: &[u8], rgb: &mut [u8], mm: &mut [u16]) {
+    fn apply_body(
+        &mut self,
+        filled: &[u16],
+        ir: &[u8],
+        colour: Option<&[u8]>,
+        rgb: &mut [u8],
+        mm: &mut [u16],
+    ) {
         // The z-buffer is all EMPTY here: allocated so, and reset row by row below.
         for v in 0..HEIGHT {
             let row = v * WIDTH..(v + 1) * WIDTH;
             self.project_row(v, &filled[row.clone()], &ir[row.clone()]);
-            self.splat_row(v, &filled[row.clone()], &ir[row]);
+            self.splat_row(v, &filled[row.clone()], &ir[row], colour);
         }
         // One pass over the z-buffer while each row is in L1: fill cracks, unpack, and reset the
         // row above (the crack test of this row still read it).
@@ -202,7 +238,7 @@ impl Warp {
     }
 
     #[inline(always)]
-    fn splat_row(&mut self, v: usize, filled: &[u16], ir: &[u8]) {
+    fn splat_row(&mut self, v: usize, filled: &[u16], ir: &[u8], colour: Option<&[u8]>) {
         // Off-image pixels land in the spare slot past the image: no branch per pixel.
         for (&t, &k) in self.target.iter().zip(&self.keys) {
             // `t <= OUTSIDE` always; the `min` is a cmov that spares a bounds-check branch.
@@ -229,7 +265,7 @@ impl Warp {
                     && self.keys[u + 1] != EMPTY
                     && ir[u + 1] != OTHER
                 {
-                    self.mark_gap(v, u, filled);
+                    self.mark_gap(v, u, filled, colour);
                 }
             }
         }
@@ -238,7 +274,7 @@ impl Warp {
     /// Marks the target pixels between the footprints of source pixels `u` (near) and `u + 1`
     /// (far) of row `v` as alignment shadow, on the far pixel's target row, where nothing else
     /// landed.
-    fn mark_gap(&mut self, v: usize, u: usize, filled: &[u16]) {
+    fn mark_gap(&mut self, v: usize, u: usize, filled: &[u16], colour: Option<&[u8]>) {
         let t = self.target[u + 1];
         if t == OUTSIDE {
             return;
@@ -246,8 +282,39 @@ impl Warp {
         let line = t as usize / WIDTH;
         let lo = self.target_x(v, u, filled[u]) + self.half_px;
         let hi = self.target_x(v, u + 1, filled[u + 1]) - self.half_px;
-        let (c0, c1) = span(lo, hi, WIDTH);
+        let (mut c0, c1) = span(lo, hi, WIDTH);
         let base = line * WIDTH;
+        // The near surface ends at a colour edge the RGB camera sees: one pixel either way.
+        if let Some(colour) = colour {
+            // A pixel inside the near surface: the target of a source pixel before `u` on the
+            // same surface (a thin rod is only two or three target pixels wide).
+            let inside = (1..=2)
+                .filter_map(|k| u.checked_sub(k))
+                .take_while(|&w| {
+                    (i32::from(filled[w + 1]) - i32::from(filled[w])).abs() < self.jump_raw
+                })
+                .map(|w| self.target[w])
+                .find(|&t| {
+                    t != OUTSIDE && t as usize / WIDTH == line && (t as usize % WIDTH) + 1 < c0
+                })
+                .map(|t| t as usize % WIDTH);
+            if let (Some(inside), true) = (inside, c1 >= c0 + 2) {
+                let near = self.keys[u];
+                match edge_side(colour, base, inside, c0) {
+                    // The gap's first pixel shows the near surface.
+                    Side::Near if self.zbuf[base + c0] == EMPTY => {
+                        self.zbuf[base + c0] = near;
+                        c0 += 1;
+                    }
+                    // The near surface's last pixel shows the background.
+                    Side::Far if self.zbuf[base + c0 - 1] == near => {
+                        self.zbuf[base + c0 - 1] = EMPTY;
+                        c0 -= 1;
+                    }
+                    _ => {}
+                }
+            }
+        }
         for i in base + c0..base + c1 {
             if self.zbuf[i] == EMPTY {
                 self.zbuf[i] = GAP;
@@ -264,6 +331,51 @@ impl Warp {
         let [sx, _, sz] = self.col_step;
         let nz = bz + uf * sz + self.t[2] * iz;
         self.rgb_f[0] * (bx + uf * sx + self.t[0] * iz) / nz + self.rgb_c[0]
+    }
+}
+
+/// Which side of a colour edge a boundary pixel shows.
+enum Side {
+    Near,
+    Far,
+    Unclear,
+}
+
+/// Colour contrast (sum of |ΔR|+|ΔG|+|ΔB|) two surfaces need before their edge is trusted.
+const EDGE_CONTRAST: u32 = 90;
+
+/// The two pixels around a boundary at target column `c` of the row starting at `base`, with
+/// the near surface left (`inside` shows it) and the far one right (`c + 1`): which one is
+/// misplaced, judged by colour. `Near`: pixel `c` shows the near surface; `Far`: pixel `c − 1`
+/// shows the far one.
+fn edge_side(colour: &[u8], base: usize, inside: usize, c: usize) -> Side {
+    let px = |x: usize| -> [i32; 3] {
+        let i = 3 * (base + x);
+        [colour[i].into(), colour[i + 1].into(), colour[i + 2].into()]
+    };
+    classify_boundary(px(inside), px(c - 1), px(c), px(c + 1))
+}
+
+/// `near_in` and `far_in` are pixels well inside each surface; `near_edge` is the near surface's
+/// boundary pixel, `far_edge` the far one's. Says which boundary pixel clearly matches the other
+/// surface, if one does.
+fn classify_boundary(
+    near_in: [i32; 3],
+    near_edge: [i32; 3],
+    far_edge: [i32; 3],
+    far_in: [i32; 3],
+) -> Side {
+    let dist =
+        |p: [i32; 3], q: [i32; 3]| -> u32 { p.iter().zip(&q).map(|(a, b)| a.abs_diff(*b)).sum() };
+    if dist(near_in, far_in) < EDGE_CONTRAST {
+        return Side::Unclear;
+    }
+    if 2 * dist(far_edge, near_in) < dist(far_edge, far_in) {
+        Side::Near
+    } else if 2 * dist(near_edge, far_in) < dist(near_edge, near_in) {
+        Side::Far
+    } else {
+        Side::Unclear
     }
 }
 

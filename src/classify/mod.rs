@@ -97,9 +97,10 @@ impl Classifier {
             self.colour
                 .apply(raw, rgb, &mut out.ir_labels, &mut self.filled);
         }
-        self.warp.apply(
+        self.warp.apply_with_colour(
             &self.filled,
             &out.ir_labels,
+            rgb,
             &mut out.rgb_labels,
             &mut out.registered_mm,
         );
