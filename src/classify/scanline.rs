@@ -111,19 +111,22 @@ fn classify_frame_body(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &
     let mut column_memory = [NO_DEPTH; WIDTH];
     let far = farthest_measured(raw);
     let mut holes = [Run::default(); MAX_RUNS];
-    let rows = raw
+    for (v, (row, fill)) in raw
         .chunks_exact(WIDTH)
-        .zip(labels.chunks_exact_mut(WIDTH))
-        .zip(filled.chunks_exact_mut(WIDTH));
-    for (v, ((row, lab), fill)) in rows.enumerate() {
+        .zip(filled.chunks_exact_mut(WIDTH))
+        .enumerate()
+    {
+        let (done, rest) = labels.split_at_mut(v * WIDTH);
+        let prev_labels = &done[done.len().saturating_sub(WIDTH)..];
         classify_row_with(
             p,
             row,
             &column_memory,
             &raw[v.saturating_sub(1) * WIDTH..v * WIDTH],
+            prev_labels,
             &raw[(v + 1) * WIDTH..],
             far,
-            lab,
+            &mut rest[..WIDTH],
             fill,
             &mut holes,
         );
@@ -131,6 +134,17 @@ fn classify_frame_body(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &
             *m = if r != NO_DEPTH { r } else { *m };
         }
     }
+}
+
+/// What a bounded hole is judged against besides its own row.
+#[derive(Clone, Copy)]
+struct Context<'a> {
+    /// The frame's [`farthest_measured`] raw value.
+    far: u16,
+    /// Per column, the last valid raw value in the rows above (or 2047).
+    above: &'a [u16],
+    /// The labels of the row above (empty for the first row).
+    prev_labels: &'a [u8],
 }
 
 /// A run of pixels `[start, end)`.
@@ -179,7 +193,18 @@ pub fn classify_row(
     filled: &mut [u16],
 ) {
     let mut holes = [Run::default(); MAX_RUNS];
-    classify_row_with(p, raw, above, prev, below, far, labels, filled, &mut holes);
+    classify_row_with(
+        p,
+        raw,
+        above,
+        prev,
+        &[],
+        below,
+        far,
+        labels,
+        filled,
+        &mut holes,
+    );
 }
 
 /// [`classify_row`] with the caller's scratch for the row's hole runs (zeroing 5 KB per row
@@ -191,6 +216,7 @@ fn classify_row_with(
     raw: &[u16],
     above: &[u16],
     prev: &[u16],
+    prev_labels: &[u8],
     below: &[u16],
     far: u16,
     labels: &mut [u8],
@@ -212,7 +238,12 @@ fn classify_row_with(
         match (left, right) {
             (Some(sa), Some(sb)) => {
                 let next = &below[..below.len().min(n)];
-                classify_bounded(p, raw, *h, sa, sb, far, above, [prev, next], labels, filled)
+                let context = Context {
+                    far,
+                    above,
+                    prev_labels,
+                };
+                classify_bounded(p, raw, *h, sa, sb, context, [prev, next], labels, filled)
             }
             (None, Some(sb)) => classify_left_border(p, raw, *h, sb, above, below, labels, filled),
             (Some(sa), None) => fill(filled, *h, sa.far),
@@ -389,12 +420,16 @@ fn classify_bounded(
     h: Run,
     sa: Bound,
     sb: Bound,
-    far: u16,
-    above: &[u16],
+    context: Context,
     rows: [&[u16]; 2],
     labels: &mut [u8],
     filled: &mut [u16],
 ) {
+    let Context {
+        far,
+        above,
+        prev_labels,
+    } = context;
     // Shadows lie on the background, so fill with the farther side's depth.
     fill(filled, h, sa.far.max(sb.far));
     // Eq. (3): the attached shadow of Sb on the surface of Sa is w = disp(Sb) − disp(Sa) wide.
@@ -404,7 +439,7 @@ fn classify_bounded(
         if labels[h.start] == OTHER {
             hidden_background(p, raw, h, sa, sb, above, rows, labels, filled);
         }
-        beyond_range(raw, h, far, labels);
+        beyond_range(raw, h, far, prev_labels, labels);
         return;
     }
     match detached(p, raw, h, sa, sb, rows) {
@@ -569,7 +604,7 @@ fn occluder_end(p: &ScanParams, row: &[u16], start: usize, d_occ: f32, w: f32) -
 /// A shadow falling on a surface that recedes past the sensor's range would be a hole even if
 /// lit, so it is OTHER (SPEC §1): extrapolate Sa's surface across the hole and give back to OTHER
 /// the pixels where it lies farther than anything measured in the frame (`far`).
-fn beyond_range(raw: &[u16], h: Run, far: u16, labels: &mut [u8]) {
+fn beyond_range(raw: &[u16], h: Run, far: u16, prev_labels: &[u8], labels: &mut [u8]) {
     const SPAN: usize = 16;
     let a = h.start - 1;
     // The baseline stays on Sa's surface: it stops at holes and at steps of more than 4 raw units
@@ -590,8 +625,15 @@ fn beyond_range(raw: &[u16], h: Run, far: u16, labels: &mut [u8]) {
     if slope <= 0.05 {
         return; // level or approaching: it cannot leave the range inside the hole
     }
+    // `far` is the frame's noisiest far value, so the surface leaves the range a little before
+    // it: within NEAR_LIMIT of it, a pixel under one the row above left OTHER (the same surface
+    // out of range there, not a shadow) is out of range too.
+    const NEAR_LIMIT: f32 = 3.0;
     for (i, l) in labels[h.start..h.end].iter_mut().enumerate() {
-        if f32::from(raw[a]) + slope * (i + 1) as f32 > f32::from(far) + 0.5 && *l != VALID {
+        let at = f32::from(raw[a]) + slope * (i + 1) as f32;
+        let out = at > f32::from(far) + 0.5
+            || (at > f32::from(far) - NEAR_LIMIT && prev_labels.get(h.start + i) == Some(&OTHER));
+        if out && *l != VALID {
             *l = OTHER;
         }
     }
@@ -876,7 +918,7 @@ fn background_right_of(p: &ScanParams, raw: &[u16], start: usize) -> Option<u16>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::labels::ALIGNMENT;
+    use crate::labels::{ALIGNMENT, HEIGHT, PIXELS};
 
     fn params() -> (Calibration, ScanParams) {
         let c = Calibration::nyu_default();
@@ -1191,6 +1233,41 @@ mod tests {
             &mut filled,
         );
         assert!(labels[start..end].iter().all(|&x| x == ATTACHED));
+    }
+
+    #[test]
+    fn shadow_under_an_out_of_range_region_is_other_despite_a_noisy_far_value() {
+        // The wall of the test above in every row, out of range from column 461 on (raw 1016.8
+        // and beyond). Rows 100.. hold a box from column 480: its 19 px hole [461, 480) lies
+        // where the wall is out of range, as the rows above show. One noisy pixel reads 2 raw
+        // units farther than the wall ever does, so `far` alone calls only the hole's far end
+        // out of range.
+        let (_, p) = params();
+        let wall = |u: usize| 940 + (u as u16) / 6;
+        let mut raw = vec![NO_DEPTH; PIXELS];
+        for v in 0..HEIGHT {
+            for u in 0..461 {
+                raw[v * WIDTH + u] = wall(u);
+            }
+            if v >= 100 {
+                raw[v * WIDTH + 480..(v + 1) * WIDTH].fill(806);
+            }
+        }
+        raw[5 * WIDTH + 10] = wall(460) + 2;
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        for v in [100, 101, 250, 479] {
+            let hole = &labels[v * WIDTH + 461..v * WIDTH + 480];
+            assert!(hole.iter().all(|&l| l == OTHER), "row {v}: {hole:?}");
+        }
+        // Without the out-of-range rows above, the same hole is the box's attached shadow.
+        let mut lower = raw.clone();
+        for v in 0..100 {
+            lower[v * WIDTH + 461..(v + 1) * WIDTH].fill(wall(460));
+        }
+        classify_frame(&p, &lower, &mut labels, &mut filled);
+        let hole = &labels[250 * WIDTH + 461..250 * WIDTH + 480];
+        assert!(hole[..10].iter().all(|&l| l == ATTACHED), "{hole:?}");
     }
 
     #[test]
