@@ -503,6 +503,10 @@ fn hidden_background(
     }
 }
 
+/// How far the sensor's correlation window moves each end of a shadow beyond its geometric place
+/// (pixels; real frames: about 2.3 px in all, SPEC §1).
+const WIDENING: f32 = 3.0;
+
 /// Narrowest hole (pixels) taken for an occluder without depth: narrower ones are dropouts.
 const MIN_DEPTHLESS_WIDTH: usize = 3;
 
@@ -706,8 +710,12 @@ fn detached(
             // Eq. (4): Fa − Sa = w_s + w_b; eq. (5): Fb − Sb = w_b + w_f (pixel positions).
             let e4 = (fa as f32 - (h.start as f32 - 1.0)) - (d_fa - d_sa);
             let e5 = (fb as f32 - h.end as f32) - (d_fb - d_sb);
-            // Pixel sampling puts e4 at about +1 and e5 at about −1 for an ideal shadow.
-            if (e4 - 1.0).abs() <= p.tol && (e5 + 1.0).abs() <= p.tol {
+            // Pixel sampling puts e4 at about +1 and e5 at about −1 for an ideal shadow. The
+            // sensor's widening moves the hole's left end left (e4 grows) and its right end right
+            // (e5 shrinks), never the other way: the tolerance is that much wider on that side.
+            if (-p.tol..=p.tol + WIDENING).contains(&(e4 - 1.0))
+                && (-p.tol - WIDENING..=p.tol).contains(&(e5 + 1.0))
+            {
                 return Detached::Measured;
             }
             return Detached::No;
@@ -1268,6 +1276,30 @@ mod tests {
         classify_frame(&p, &lower, &mut labels, &mut filled);
         let hole = &labels[250 * WIDTH + 461..250 * WIDTH + 480];
         assert!(hole[..10].iter().all(|&l| l == ATTACHED), "{hole:?}");
+    }
+
+    #[test]
+    fn detached_shadow_widened_on_its_left_is_still_detached() {
+        // A 13 px rod at 1 m, [300, 313), before a wall at 3 m: its shadow is the rod shifted
+        // left by f·b·(1/1 − 1/3) = 29.1 px, [271, 284). The sensor widens it by 5 px on the
+        // left, [266, 284): eq. (4) is then off by 5 px, all of it on the widening's side.
+        let (c, _) = params();
+        let row_with = |a: usize| {
+            let mut row = wall_with_holes(&c, &[(a, 284)]);
+            row[300..313].fill(raw_at(&c, 1.0));
+            row
+        };
+        let row = row_with(266);
+        let (labels, _) = run_with_neighbours(&row, &row, &row);
+        assert!(
+            labels[266..284].iter().all(|&l| l == DETACHED),
+            "{:?}",
+            &labels[260..290]
+        );
+        // A hole 5 px short of the shadow's left end is no such shadow: widening never shrinks.
+        let row = row_with(276);
+        let (labels, _) = run_with_neighbours(&row, &row, &row);
+        assert!(labels[276..284].iter().all(|&l| l != DETACHED));
     }
 
     #[test]
