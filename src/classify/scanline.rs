@@ -754,7 +754,8 @@ fn depthless_occluder(
         return Detached::No;
     }
     let repeats = |row: &[u16]| {
-        // The same pair in a neighbouring row: holes through both centres, shifted alike.
+        // The same pair in a neighbouring row: holes through both centres, shifted alike (the
+        // widening moves each row's shadow end by 0–3 px).
         let (Some(s), Some(o)) = (
             hole_around(row, (h.start + h.end) / 2),
             hole_around(row, (occluder.start + occluder.end) / 2),
@@ -762,7 +763,8 @@ fn depthless_occluder(
             return false;
         };
         s.end < o.start
-            && hole_pair(p, row, s, o.start, d_bg).is_some_and(|(w, _)| (w - shift).abs() <= 2.0)
+            && hole_pair(p, row, s, o.start, d_bg)
+                .is_some_and(|(w, _)| (w - shift).abs() <= WIDENING)
     };
     if !rows.iter().all(|row| repeats(row)) {
         return Detached::No;

@@ -22,8 +22,9 @@ const MIN_WIDTH: usize = 3;
 const OVER: usize = 8;
 /// Both holes lie on one background: their sides' disparities may differ by this much (px).
 const SAME_BG: f64 = 2.0;
-/// Shifts of the rows above and below may differ by this much (pixels).
-const ROWS_AGREE: usize = 2;
+/// Shifts of the rows above and below may differ by this much (pixels): the sensor's widening
+/// moves each row's shadow end by 0–3 px.
+const ROWS_AGREE: usize = 3;
 /// Holes of the current row remembered as shadow candidates.
 const RECENT: usize = 8;
 
