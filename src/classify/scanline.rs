@@ -122,7 +122,7 @@ fn classify_frame_body(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &
             p,
             row,
             &column_memory,
-            &raw[v.saturating_sub(1) * WIDTH..v * WIDTH],
+            &raw[..v * WIDTH],
             prev_labels,
             &raw[(v + 1) * WIDTH..],
             far,
@@ -145,6 +145,8 @@ struct Context<'a> {
     above: &'a [u16],
     /// The labels of the row above (empty for the first row).
     prev_labels: &'a [u8],
+    /// Every row above and every row below (whole rows).
+    far_rows: [&'a [u16]; 2],
 }
 
 /// A run of pixels `[start, end)`.
@@ -215,7 +217,7 @@ fn classify_row_with(
     p: &ScanParams,
     raw: &[u16],
     above: &[u16],
-    prev: &[u16],
+    up: &[u16],
     prev_labels: &[u8],
     below: &[u16],
     far: u16,
@@ -224,6 +226,8 @@ fn classify_row_with(
     holes: &mut [Run; MAX_RUNS],
 ) {
     let n = raw.len();
+    // The row above, and every row above in `up` (from the frame; one row from `classify_row`).
+    let prev = &up[up.len() - up.len().min(n)..];
     filled.copy_from_slice(raw);
     for (l, &r) in labels.iter_mut().zip(raw) {
         *l = u8::from(r == NO_DEPTH) * OTHER; // VALID is 0; arithmetic, so it vectorises
@@ -242,6 +246,7 @@ fn classify_row_with(
                     far,
                     above,
                     prev_labels,
+                    far_rows: [up, below],
                 };
                 classify_bounded(p, raw, *h, sa, sb, context, [prev, next], labels, filled)
             }
@@ -429,21 +434,22 @@ fn classify_bounded(
         far,
         above,
         prev_labels,
+        far_rows,
     } = context;
     // Shadows lie on the background, so fill with the farther side's depth.
     fill(filled, h, sa.far.max(sb.far));
     // Eq. (3): the attached shadow of Sb on the surface of Sa is w = disp(Sb) − disp(Sa) wide.
     let w = p.disp(sb.near) - p.disp(sa.far);
     if w >= p.min_step && !same_surface(p, raw, h, sa, sb) {
-        label_attached(p, raw, h, w, rows, labels);
+        label_attached(p, raw, h, w, rows, far_rows, labels);
         if labels[h.start] == OTHER {
-            hidden_background(p, raw, h, sa, sb, above, rows, labels, filled);
+            hidden_background(p, raw, h, sa, sb, above, rows, far_rows, labels, filled);
         }
         beyond_range(raw, h, far, prev_labels, labels);
         return;
     }
     match detached(p, raw, h, sa, sb, rows) {
-        Detached::No => hidden_background(p, raw, h, sa, sb, above, rows, labels, filled),
+        Detached::No => hidden_background(p, raw, h, sa, sb, above, rows, far_rows, labels, filled),
         Detached::Measured => set(labels, raw, h.start, h.end, DETACHED),
         Detached::Depthless { occluder, raw: at } => {
             set(labels, raw, h.start, h.end, DETACHED);
@@ -468,6 +474,7 @@ fn hidden_background(
     sb: Bound,
     above: &[u16],
     rows: [&[u16]; 2],
+    far_rows: [&[u16]; 2],
     labels: &mut [u8],
     filled: &mut [u16],
 ) {
@@ -493,7 +500,7 @@ fn hidden_background(
     }
     let w = p.disp(sb.near) - p.disp(bg);
     if w >= p.min_step && (h.end - h.start) as f32 <= w + p.over {
-        label_attached(p, raw, h, w, rows, labels);
+        label_attached(p, raw, h, w, rows, far_rows, labels);
         // The shadow lies on the background, not on Sa (`fill` keeps the first value).
         for (f, &r) in filled[h.start..h.end].iter_mut().zip(&raw[h.start..h.end]) {
             if r == NO_DEPTH {
@@ -544,10 +551,11 @@ fn label_attached(
     h: Run,
     w: f32,
     rows: [&[u16]; 2],
+    far_rows: [&[u16]; 2],
     labels: &mut [u8],
 ) {
     if (h.end - h.start) as f32 <= w + p.over {
-        let code = if thin_occluder(p, raw, h.end, w, rows) {
+        let code = if thin_occluder(p, raw, h.end, w, rows, far_rows) {
             DETACHED
         } else {
             ATTACHED
@@ -562,32 +570,79 @@ fn label_attached(
 /// occluder only because the sensor's widening swallowed that lit gap. The widening also eats
 /// 0–3 px of the occluder's left edge, a different amount in each row, so the occluder's width
 /// is the widest run of this row and the rows above and below (`rows`).
-fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: [&[u16]; 2]) -> bool {
+fn thin_occluder(
+    p: &ScanParams,
+    raw: &[u16],
+    sb: usize,
+    w: f32,
+    rows: [&[u16]; 2],
+    far_rows: [&[u16]; 2],
+) -> bool {
     // Narrower by at least this much (pixels), against depth noise in `w`.
     const MARGIN: f32 = 0.5;
     let d_occ = p.disp(raw[sb]);
     let Some(end) = occluder_end(p, raw, sb, d_occ, w) else {
         return false; // at least as wide as the shift: attached
     };
-    if (end - sb) as f32 + MARGIN >= w
-        || raw[end] == NO_DEPTH
-        || d_occ - p.disp(raw[end]) <= w - 2.0 * p.min_step
-    {
+    if (end - sb) as f32 + MARGIN >= w {
         return false;
     }
-    // In a neighbouring row the occluder starts within a few pixels of `sb`.
-    rows.iter().all(|row| {
+    // The occluder in `row`, starting within a few pixels of `sb`: its run, if it has one.
+    let occluder_in = |row: &[u16]| -> Option<(usize, Option<usize>)> {
         let lo = sb.saturating_sub(3).min(row.len());
         let hi = (sb + 4).min(row.len());
-        let Some(k) = row[lo..hi]
+        let k = row[lo..hi]
             .iter()
-            .position(|&r| r != NO_DEPTH && p.disp(r) >= d_occ - w / 2.0)
-        else {
-            return true; // no occluder there: this row has no say
-        };
-        let start = lo + k;
-        occluder_end(p, row, start, d_occ, w).is_some_and(|end| ((end - start) as f32) + MARGIN < w)
+            .position(|&r| r != NO_DEPTH && p.disp(r) >= d_occ - w / 2.0)?;
+        Some((lo + k, occluder_end(p, row, lo + k, d_occ, w)))
+    };
+    // Its end must show the background behind it (the same the shadow falls on).
+    let background_after = |row: &[u16], end: usize| {
+        row[end] != NO_DEPTH && d_occ - p.disp(row[end]) > w - 2.0 * p.min_step
+    };
+    if !background_after(raw, end) {
+        // Another hole (a black object behind it, say) hides where the occluder ends here: its
+        // width is read in the nearest rows above or below where the background shows.
+        return occluder_width_nearby(raw.len(), far_rows, |row| {
+            let (start, end) = occluder_in(row)?;
+            match end {
+                None => Some(false), // wider than the shift there
+                Some(end) if background_after(row, end) => {
+                    Some(((end - start) as f32) + MARGIN < w)
+                }
+                Some(_) => None,
+            }
+        });
+    }
+    // In a neighbouring row the occluder starts within a few pixels of `sb`.
+    rows.iter().all(|row| match occluder_in(row) {
+        None => true, // no occluder there: this row has no say
+        Some((start, end)) => end.is_some_and(|end| ((end - start) as f32) + MARGIN < w),
     })
+}
+
+/// The first answer `judge` gives in the rows above and below, nearest first, up to 40 rows
+/// away (`far_rows`: every row above, every row below); false when none answers.
+fn occluder_width_nearby(
+    n: usize,
+    [up, down]: [&[u16]; 2],
+    judge: impl Fn(&[u16]) -> Option<bool>,
+) -> bool {
+    const LOOK: usize = 40;
+    let (rows_up, rows_down) = (up.len() / n, down.len() / n);
+    for k in 1..=LOOK {
+        let above = (k <= rows_up).then(|| &up[(rows_up - k) * n..(rows_up - k + 1) * n]);
+        let below = (k <= rows_down).then(|| &down[(k - 1) * n..k * n]);
+        if above.is_none() && below.is_none() {
+            break;
+        }
+        for row in [above, below].into_iter().flatten() {
+            if let Some(answer) = judge(row) {
+                return answer;
+            }
+        }
+    }
+    false
 }
 
 /// End of the occluder's run that starts at `start` (at disparity `d_occ`): the first hole or
@@ -889,6 +944,7 @@ fn classify_left_border(
             h,
             w,
             [&below[..below.len().min(raw.len())], &[]],
+            [&[], below],
             labels,
         );
     }
@@ -1302,6 +1358,43 @@ mod tests {
         let row = row_with(276);
         let (labels, _) = run_with_neighbours(&row, &row, &row);
         assert!(labels[276..284].iter().all(|&l| l != DETACHED));
+    }
+
+    #[test]
+    fn thin_rod_before_a_black_object_is_judged_where_the_wall_shows_behind_it() {
+        // A 10 px rod at 1.645 m before a wall at 3 m: shift f·b·(1/1.645 − 1/3) = 12 px > 10 px,
+        // so its shadow [288, 298) is detached; the sensor's widening swallows the 2 px lit gap,
+        // and the hole [288, 300) touches the rod [300, 310). In rows 200..260 a black object
+        // right of the rod, [310, 360), hides where the rod ends; the rows above and below show
+        // it (up to 40 rows away).
+        let (c, p) = params();
+        let mut raw = vec![raw_at(&c, 3.0); PIXELS];
+        for v in 0..HEIGHT {
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            row[288..300].fill(NO_DEPTH);
+            row[300..310].fill(raw_at(&c, 1.645));
+            if (200..260).contains(&v) {
+                row[310..360].fill(NO_DEPTH);
+            }
+        }
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        for v in [100, 200, 229, 259, 479] {
+            let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
+            assert!(hole.iter().all(|&l| l == DETACHED), "row {v}: {hole:?}");
+        }
+        // A rod as wide as its shift (14 px) casts an attached shadow, black object or not.
+        for v in 0..HEIGHT {
+            raw[v * WIDTH + 300..v * WIDTH + 314].fill(raw_at(&c, 1.645));
+            if (200..260).contains(&v) {
+                raw[v * WIDTH + 314..v * WIDTH + 360].fill(NO_DEPTH);
+            }
+        }
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        for v in [100, 229] {
+            let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
+            assert!(hole.iter().all(|&l| l == ATTACHED), "row {v}: {hole:?}");
+        }
     }
 
     #[test]
