@@ -605,13 +605,13 @@ fn thin_occluder(
         // width is read in the nearest rows above or below where the background shows.
         return occluder_width_nearby(raw.len(), far_rows, |row| {
             let (start, end) = occluder_in(row)?;
-            match end {
+            Some(match end {
                 None => Some(false), // wider than the shift there
                 Some(end) if background_after(row, end) => {
                     Some(((end - start) as f32) + MARGIN < w)
                 }
                 Some(_) => None,
-            }
+            })
         });
     }
     // In a neighbouring row the occluder starts within a few pixels of `sb`.
@@ -622,23 +622,34 @@ fn thin_occluder(
 }
 
 /// The first answer `judge` gives in the rows above and below, nearest first, up to 40 rows
-/// away (`far_rows`: every row above, every row below); false when none answers.
+/// away (`far_rows`: every row above, every row below); false when none answers. `judge` says
+/// `None` where the occluder is gone (that direction ends), `Some(None)` where it has no answer.
 fn occluder_width_nearby(
     n: usize,
     [up, down]: [&[u16]; 2],
-    judge: impl Fn(&[u16]) -> Option<bool>,
+    judge: impl Fn(&[u16]) -> Option<Option<bool>>,
 ) -> bool {
     const LOOK: usize = 40;
     let (rows_up, rows_down) = (up.len() / n, down.len() / n);
+    let (mut go_up, mut go_down) = (true, true);
     for k in 1..=LOOK {
-        let above = (k <= rows_up).then(|| &up[(rows_up - k) * n..(rows_up - k + 1) * n]);
-        let below = (k <= rows_down).then(|| &down[(k - 1) * n..k * n]);
-        if above.is_none() && below.is_none() {
+        go_up &= k <= rows_up;
+        go_down &= k <= rows_down;
+        if !go_up && !go_down {
             break;
         }
-        for row in [above, below].into_iter().flatten() {
-            if let Some(answer) = judge(row) {
-                return answer;
+        if go_up {
+            match judge(&up[(rows_up - k) * n..(rows_up - k + 1) * n]) {
+                None => go_up = false,
+                Some(Some(answer)) => return answer,
+                Some(None) => {}
+            }
+        }
+        if go_down {
+            match judge(&down[(k - 1) * n..k * n]) {
+                None => go_down = false,
+                Some(Some(answer)) => return answer,
+                Some(None) => {}
             }
         }
     }
