@@ -219,6 +219,34 @@ fn alignment_strip_starts_at_the_colour_edge_of_the_box() {
     );
 }
 
+#[test]
+fn black_sphere_crescent_is_split_off_up_to_its_poles() {
+    // A black sphere (r = 0.2 m) at 0.9 m before a wall at 3 m: its attached shadow is a crescent
+    // f·b·(1/0.9 − 1/3) = 34 px wide at the equator. Towards the poles the sphere's edge moves
+    // several pixels from row to row, so a row's split need agree with only one neighbour.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::box_before_wall(1.0, 3.0);
+    scene.objects[1].shape = umbra::synth::Shape::Sphere {
+        centre: umbra::synth::V3::new(0.0, 0.0, 1.1),
+        radius: 0.2,
+    };
+    scene.objects[1].material = umbra::synth::Material::black();
+    let mut c = Confusion::default();
+    for seed in 0..3 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 90 + seed);
+        c.add(&frame.ir_labels, &classify_rgb(&calib, &frame).ir_labels);
+    }
+    let s = c.class(ATTACHED);
+    assert!(
+        s.recall.unwrap() >= 0.9,
+        "IR attached of a black sphere {s:?}"
+    );
+    assert!(
+        s.precision.unwrap() >= 0.97,
+        "IR attached of a black sphere {s:?}"
+    );
+}
+
 /// Classifies with the frame's RGB image (the colour split of depthless occluders' shadows).
 fn classify_rgb(calib: &Calibration, frame: &SynthFrame) -> Classified {
     let mut out = Classified::default();

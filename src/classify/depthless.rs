@@ -7,8 +7,9 @@
 //! along the hole's row the RGB camera must see background, then the occluder (then background
 //! again, the strip the occluder hides from the IR camera, when the background closes the hole on
 //! the right). The split is the `s` whose layout matches the colours; it must clearly beat "no
-//! shadow at all" (a black poster) and agree with the rows above and below, because an occluder
-//! is a solid. Variants of the same reading:
+//! shadow at all" (a black poster), the rows above and below must hold such a hole too, and one
+//! of them must split it alike, because an occluder is a solid (one, not both: towards a round
+//! occluder's poles its edge moves several pixels per row). Variants of the same reading:
 //!
 //! - an *open* hole (running into the image border, another hole, a farther surface) is read from
 //!   its left: background, then at least as much occluder as the shadow is wide;
@@ -322,7 +323,7 @@ impl ColourSplit {
     }
 
     /// The split of candidate `c` in row `v` (shadow width, occluder shift), if the rows above
-    /// and below agree.
+    /// and below hold candidates and one of them splits alike.
     fn agreed_split(
         &self,
         raw: &[u16],
@@ -354,7 +355,7 @@ impl ColourSplit {
             self.split_memo(rgb, w, n, prefix)
                 .is_some_and(|(t, _)| (n.a + t).abs_diff(c.a + s.0) <= ROWS_AGREE)
         };
-        (agrees(v - 1, above) && agrees(v + 1, below)).then_some(s)
+        (agrees(v - 1, above) || agrees(v + 1, below)).then_some(s)
     }
 
     /// The shift of an occluder filling the hole `[a, b)` of row `v` up to the background on its
