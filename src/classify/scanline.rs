@@ -448,7 +448,25 @@ fn classify_bounded(
         beyond_range(raw, h, far, prev_labels, labels);
         return;
     }
-    match detached(p, raw, h, sa, sb, rows) {
+    // A depthless occluder a pixel or two right of its shadow shares one hole with it (the lit
+    // gap between them is an island the hole merged): the parts either side of the island.
+    let verdict = match detached(p, raw, h, sa, sb, rows) {
+        Detached::No => match split_at_island(p, raw, h, sa, sb) {
+            Some((shadow, rest)) => {
+                match depthless_occluder(p, raw, shadow, rest, sa_sb_bg(p, sa, sb), rows) {
+                    Detached::Depthless { occluder, raw: at } => {
+                        set(labels, raw, shadow.start, shadow.end, DETACHED);
+                        fill(filled, occluder, at);
+                        return;
+                    }
+                    _ => Detached::No,
+                }
+            }
+            None => Detached::No,
+        },
+        other => other,
+    };
+    match verdict {
         Detached::No => hidden_background(p, raw, h, sa, sb, above, rows, far_rows, labels, filled),
         Detached::Measured => set(labels, raw, h.start, h.end, DETACHED),
         Detached::Depthless { occluder, raw: at } => {
@@ -458,6 +476,39 @@ fn classify_bounded(
             fill(filled, occluder, at);
         }
     }
+}
+
+/// The background disparity the detached test uses for a hole between `sa` and `sb`.
+fn sa_sb_bg(p: &ScanParams, sa: Bound, sb: Bound) -> f32 {
+    p.disp(sa.far).min(p.disp(sb.far))
+}
+
+/// The hole `h` as a shadow run before the first lit island inside it (at most `max_island`
+/// valid pixels at the background's depth), and the column where the rest starts.
+fn split_at_island(
+    p: &ScanParams,
+    raw: &[u16],
+    h: Run,
+    sa: Bound,
+    sb: Bound,
+) -> Option<(Run, usize)> {
+    let d_bg = sa_sb_bg(p, sa, sb);
+    let i0 = h.start + raw[h.start..h.end].iter().position(|&r| r != NO_DEPTH)?;
+    let i1 = i0
+        + raw[i0..h.end]
+            .iter()
+            .take_while(|&&r| r != NO_DEPTH)
+            .count();
+    let lit = raw[i0..i1]
+        .iter()
+        .all(|&r| (p.disp(r) - d_bg).abs() < 2.0 * p.min_step);
+    (lit && i1 - i0 <= p.max_island && i1 < h.end).then_some((
+        Run {
+            start: h.start,
+            end: i0,
+        },
+        i1,
+    ))
 }
 
 /// A hole too wide for Sb's shadow on Sa, or whose Sa is no farther than Sb: when Sa is an

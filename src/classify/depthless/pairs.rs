@@ -10,9 +10,7 @@
 //! above and below must hold the same pair, because an occluder is a solid.
 //!
 //! Holes are met left to right, so each one is tried as the occluder of the recent holes of its
-//! row: no search along the row, which keeps the many holes of a real frame cheap. A shadow a
-//! pixel or two from its occluder shares one hole with it (the lit gap is an island the hole
-//! merges); the parts either side of the island are tried as the pair first.
+//! row: no search along the row, which keeps the many holes of a real frame cheap.
 
 use super::{ceil, dist, hole_span, round, ColourSplit, COLOUR_STEP, SIDE, SIDES_AGREE};
 use crate::labels::{DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
@@ -68,13 +66,8 @@ impl ColourSplit {
         let Some(o) = self.closed(row, (a, b)) else {
             return false;
         };
-        // A shadow and its occluder a pixel or two apart read as one hole (the lit gap between
-        // them is an island the hole merges): the parts either side of the island, first.
-        let halves = self.split_at_island(row, o);
-        let candidates = halves
-            .into_iter()
-            .chain((0..recent.len).rev().map(|k| (recent.holes[k], o)));
-        for (h, o) in candidates {
+        for k in (0..recent.len).rev() {
+            let h = recent.holes[k];
             let Some(shift) = self.pair(h, o) else {
                 continue;
             };
@@ -130,8 +123,8 @@ impl ColourSplit {
             .then_some(shift)
     }
 
-    /// The rows above and below hold the same pair: closed holes through both centres (or the
-    /// two parts of one hole split at an island), shifted alike.
+    /// The rows above and below hold the same pair: closed holes through both centres, shifted
+    /// alike.
     fn repeats(&self, raw: &[u16], v: usize, h: Closed, o: Closed, shift: usize) -> bool {
         [v - 1, v + 1].into_iter().all(|w| {
             let row = &raw[w * WIDTH..(w + 1) * WIDTH];
@@ -139,32 +132,12 @@ impl ColourSplit {
             let (Some(hs), Some(os)) = (hole((h.a + h.b) / 2), hole((o.a + o.b) / 2)) else {
                 return false;
             };
-            let parts = if hs == os {
-                self.closed(row, hs)
-                    .and_then(|c| self.split_at_island(row, c))
-            } else {
-                self.closed(row, hs).zip(self.closed(row, os))
+            let (Some(h2), Some(o2)) = (self.closed(row, hs), self.closed(row, os)) else {
+                return false;
             };
-            parts
-                .and_then(|(h2, o2)| self.pair(h2, o2))
+            self.pair(h2, o2)
                 .is_some_and(|t| t.abs_diff(shift) <= ROWS_AGREE)
         })
-    }
-
-    /// The closed hole `c` as two closed holes either side of the first lit island inside it
-    /// (valid pixels at the background's depth, at most two).
-    fn split_at_island(&self, row: &[u16], c: Closed) -> Option<(Closed, Closed)> {
-        let d_bg = self.disp(c.bg);
-        let i0 = c.a + row[c.a..c.b].iter().position(|&r| r != NO_DEPTH)?;
-        let i1 = i0 + row[i0..c.b].iter().take_while(|&&r| r != NO_DEPTH).count();
-        if i1 - i0 > 2
-            || row[i0..i1]
-                .iter()
-                .any(|&r| (self.disp(r) - d_bg).abs() > SAME_BG)
-        {
-            return None;
-        }
-        Some((self.closed(row, (c.a, i0))?, self.closed(row, (i1, c.b))?))
     }
 
     /// The shadow looks like the background beside it (its left third), and the occluder, where
