@@ -492,6 +492,11 @@ fn split_at_island(
     sa: Bound,
     sb: Bound,
 ) -> Option<(Run, usize)> {
+    // A shadow and an occluder of at least MIN_DEPTHLESS_WIDTH each, and the island (most holes
+    // of a real frame are narrower and stop here).
+    if h.end - h.start < 2 * MIN_DEPTHLESS_WIDTH + 1 {
+        return None;
+    }
     let d_bg = sa_sb_bg(p, sa, sb);
     let i0 = h.start + raw[h.start..h.end].iter().position(|&r| r != NO_DEPTH)?;
     let i1 = i0
