@@ -478,6 +478,15 @@ fn classify_bounded(
     }
 }
 
+/// The farthest of the last valid raw values above the hole's columns (column memory), if any.
+fn farthest_above(above: &[u16], h: Run) -> Option<u16> {
+    above[h.start..h.end]
+        .iter()
+        .copied()
+        .filter(|&r| r != NO_DEPTH)
+        .max()
+}
+
 /// The background disparity the detached test uses for a hole between `sa` and `sb`.
 fn sa_sb_bg(p: &ScanParams, sa: Bound, sb: Bound) -> f32 {
     p.disp(sa.far).min(p.disp(sb.far))
@@ -542,11 +551,7 @@ fn hidden_background(
     // What the hole's own columns show above it: a surface there that is Sb itself (a hole
     // under an object's overhang) leaves no room for a shadow. The surface right of Sb is no
     // stand-in: it is as often a second object as the background.
-    let from_above = above[h.start..h.end]
-        .iter()
-        .copied()
-        .filter(|&r| r != NO_DEPTH)
-        .max();
+    let from_above = farthest_above(above, h);
     let Some(bg) = from_above else {
         return;
     };
@@ -778,7 +783,7 @@ fn detached(
     let n = raw.len();
     let d_sa = p.disp(sa.far);
     let d_sb = p.disp(sb.far);
-    let d_bg = d_sa.min(d_sb);
+    let d_bg = sa_sb_bg(p, sa, sb);
     let reach = (p.max_disp - d_bg).max(0.0) as usize + 2;
     let stop = (h.end + reach).min(n);
     // disp(r) > d_bg + min_step  ⇔  r < fg_below (disparity falls as raw grows); holes (2047)
@@ -981,11 +986,7 @@ fn classify_left_border(
     filled: &mut [u16],
 ) {
     const LOOK_DOWN: usize = 120;
-    let from_above = above[h.start..h.end]
-        .iter()
-        .copied()
-        .filter(|&r| r != NO_DEPTH)
-        .max();
+    let from_above = farthest_above(above, h);
     let down = |col: usize| {
         below
             .chunks_exact(WIDTH)
