@@ -365,8 +365,7 @@ fn classify_boundary(
     far_edge: [i32; 3],
     far_in: [i32; 3],
 ) -> Side {
-    let dist =
-        |p: [i32; 3], q: [i32; 3]| -> u32 { p.iter().zip(&q).map(|(a, b)| a.abs_diff(*b)).sum() };
+    use super::depthless::dist;
     if dist(near_in, far_in) < EDGE_CONTRAST {
         return Side::Unclear;
     }

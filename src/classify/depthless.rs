@@ -516,6 +516,23 @@ impl ColourSplit {
         result
     }
 
+    /// The mean colour the RGB camera sees at IR pixels `us` of row `v`, taken at raw value `raw`.
+    fn mean_colour(
+        &self,
+        rgb: &[u8],
+        v: usize,
+        us: std::ops::Range<usize>,
+        raw: u16,
+    ) -> Option<[i32; 3]> {
+        let mut sum = [0i32; 3];
+        for u in us.clone() {
+            let (x, y) = self.project(u as f64, v, raw);
+            let p = rgb_at(rgb, x, y)?;
+            (0..3).for_each(|k| sum[k] += p[k]);
+        }
+        Some(sum.map(|s| s / us.len() as i32))
+    }
+
     /// RGB column and row of IR pixel (`u`, `v`) at raw value `raw` (one division).
     fn project(&self, u: f64, v: usize, raw: u16) -> (f64, f64) {
         let iz = (self.den - f64::from(raw)) * self.iz_per_raw;
@@ -533,32 +550,13 @@ impl ColourSplit {
     /// the occluder's shift (its disparity above the background's), the same unless part of the
     /// shadow is hidden ([`Candidate::behind`]).
     fn split(&self, rgb: &[u8], v: usize, c: Candidate, prefix: &mut Prefix) -> Split {
-        let colour = |x: f64, y: f64| -> Option<[i32; 3]> {
-            let (x, y) = (round(x), round(y));
-            if x < 0 || y < 0 || x >= WIDTH as i64 || y >= HEIGHT as i64 {
-                return None;
-            }
-            let i = 3 * (y as usize * WIDTH + x as usize);
-            Some([rgb[i].into(), rgb[i + 1].into(), rgb[i + 2].into()])
-        };
         // Background colour: the mean of each side, which must agree.
-        let side = |us: std::ops::Range<usize>| -> Option<[i32; 3]> {
-            let mut sum = [0i32; 3];
-            for u in us.clone() {
-                let (x, y) = self.project(u as f64, v, c.bg);
-                let p = colour(x, y)?;
-                for k in 0..3 {
-                    sum[k] += p[k];
-                }
-            }
-            let n = us.len() as i32;
-            Some(sum.map(|s| s / n))
-        };
+        let side = |us: std::ops::Range<usize>| self.mean_colour(rgb, v, us, c.bg);
         // Cheap probes first (most holes of a real frame fail here): the hole's first pixel must
         // look like the background beside it, and its middle or right half like something else.
         let probe = |u: usize| {
             let (x, y) = self.project(u as f64, v, c.bg);
-            colour(x, y)
+            rgb_at(rgb, x, y)
         };
         let beside = probe(if c.behind { c.b + 1 } else { c.a - 2 })?;
         if dist(probe(c.a)?, beside) >= COLOUR_STEP
@@ -722,8 +720,18 @@ impl ColourSplit {
     }
 }
 
+/// The RGB8 pixel nearest to (`x`, `y`), if inside the image.
+fn rgb_at(rgb: &[u8], x: f64, y: f64) -> Option<[i32; 3]> {
+    let (x, y) = (round(x), round(y));
+    if x < 0 || y < 0 || x >= WIDTH as i64 || y >= HEIGHT as i64 {
+        return None;
+    }
+    let i = 3 * (y as usize * WIDTH + x as usize);
+    Some([rgb[i].into(), rgb[i + 1].into(), rgb[i + 2].into()])
+}
+
 /// Colour distance: the sum of |ΔR| + |ΔG| + |ΔB|.
-fn dist(p: [i32; 3], q: [i32; 3]) -> u32 {
+pub(crate) fn dist(p: [i32; 3], q: [i32; 3]) -> u32 {
     p.iter().zip(&q).map(|(a, b)| a.abs_diff(*b)).sum()
 }
 

@@ -12,8 +12,8 @@
 //! Holes are met left to right, so each one is tried as the occluder of the recent holes of its
 //! row: no search along the row, which keeps the many holes of a real frame cheap.
 
-use super::{ceil, dist, hole_span, round, ColourSplit, COLOUR_STEP, SIDE, SIDES_AGREE};
-use crate::labels::{DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
+use super::{ceil, dist, hole_span, rgb_at, ColourSplit, COLOUR_STEP, SIDE, SIDES_AGREE};
+use crate::labels::{DETACHED, NO_DEPTH, OTHER, WIDTH};
 
 /// Narrowest shadow and occluder holes considered (pixels), as the scanline's.
 const MIN_WIDTH: usize = 3;
@@ -143,23 +143,8 @@ impl ColourSplit {
     /// The shadow looks like the background beside it (its left third), and the occluder, where
     /// the RGB camera sees it at the depth the shift implies, plainly does not.
     fn colours_fit(&self, rgb: &[u8], v: usize, h: Closed, o: Closed, shift: usize) -> bool {
-        let colour_at = |x: f64, y: f64| -> Option<[i32; 3]> {
-            let (x, y) = (round(x), round(y));
-            if x < 0 || y < 0 || x >= WIDTH as i64 || y >= HEIGHT as i64 {
-                return None;
-            }
-            let i = 3 * (y as usize * WIDTH + x as usize);
-            Some([rgb[i].into(), rgb[i + 1].into(), rgb[i + 2].into()])
-        };
-        let mean = |us: std::ops::Range<usize>, bg: u16| -> Option<[i32; 3]> {
-            let mut sum = [0i32; 3];
-            for u in us.clone() {
-                let (x, y) = self.project(u as f64, v, bg);
-                let p = colour_at(x, y)?;
-                (0..3).for_each(|k| sum[k] += p[k]);
-            }
-            Some(sum.map(|s| s / us.len() as i32))
-        };
+        let colour_at = |x: f64, y: f64| rgb_at(rgb, x, y);
+        let mean = |us: std::ops::Range<usize>, bg: u16| self.mean_colour(rgb, v, us, bg);
         // The background's colour left of the shadow (right of it the RGB camera may see a
         // nearer occluder moved left over it), and right too when that agrees.
         let Some(left) = mean(h.a - SIDE..h.a, h.bg) else {
