@@ -517,6 +517,7 @@ impl ColourSplit {
     }
 
     /// The mean colour the RGB camera sees at IR pixels `us` of row `v`, taken at raw value `raw`.
+    #[inline]
     fn mean_colour(
         &self,
         rgb: &[u8],
@@ -721,6 +722,7 @@ impl ColourSplit {
 }
 
 /// The RGB8 pixel nearest to (`x`, `y`), if inside the image.
+#[inline]
 fn rgb_at(rgb: &[u8], x: f64, y: f64) -> Option<[i32; 3]> {
     let (x, y) = (round(x), round(y));
     if x < 0 || y < 0 || x >= WIDTH as i64 || y >= HEIGHT as i64 {
@@ -731,6 +733,7 @@ fn rgb_at(rgb: &[u8], x: f64, y: f64) -> Option<[i32; 3]> {
 }
 
 /// Colour distance: the sum of |ΔR| + |ΔG| + |ΔB|.
+#[inline]
 pub(crate) fn dist(p: [i32; 3], q: [i32; 3]) -> u32 {
     p.iter().zip(&q).map(|(a, b)| a.abs_diff(*b)).sum()
 }
