@@ -145,8 +145,25 @@ struct Context<'a> {
     above: &'a [u16],
     /// The labels of the row above (empty for the first row).
     prev_labels: &'a [u8],
-    /// Every row above and every row below (whole rows).
-    far_rows: [&'a [u16]; 2],
+    /// The rows around this one.
+    rows: Rows<'a>,
+}
+
+/// Every row above and every row below a row (whole rows of `n` values; either may be empty).
+#[derive(Clone, Copy)]
+struct Rows<'a> {
+    up: &'a [u16],
+    down: &'a [u16],
+}
+
+impl<'a> Rows<'a> {
+    /// The row just above and the row just below (empty where there is none).
+    fn near(&self, n: usize) -> [&'a [u16]; 2] {
+        [
+            &self.up[self.up.len() - self.up.len().min(n)..],
+            &self.down[..self.down.len().min(n)],
+        ]
+    }
 }
 
 /// A run of pixels `[start, end)`.
@@ -226,8 +243,6 @@ fn classify_row_with(
     holes: &mut [Run; MAX_RUNS],
 ) {
     let n = raw.len();
-    // The row above, and every row above in `up` (from the frame; one row from `classify_row`).
-    let prev = &up[up.len() - up.len().min(n)..];
     filled.copy_from_slice(raw);
     for (l, &r) in labels.iter_mut().zip(raw) {
         *l = u8::from(r == NO_DEPTH) * OTHER; // VALID is 0; arithmetic, so it vectorises
@@ -241,14 +256,13 @@ fn classify_row_with(
         let right = (h.end < n).then(|| bound_right(raw, h.end));
         match (left, right) {
             (Some(sa), Some(sb)) => {
-                let next = &below[..below.len().min(n)];
                 let context = Context {
                     far,
                     above,
                     prev_labels,
-                    far_rows: [up, below],
+                    rows: Rows { up, down: below },
                 };
-                classify_bounded(p, raw, *h, sa, sb, context, [prev, next], labels, filled)
+                classify_bounded(p, raw, *h, sa, sb, context, labels, filled)
             }
             (None, Some(sb)) => classify_left_border(p, raw, *h, sb, above, below, labels, filled),
             (Some(sa), None) => fill(filled, *h, sa.far),
@@ -416,8 +430,8 @@ fn fill(filled: &mut [u16], h: Run, value: u16) {
     }
 }
 
-/// A hole with valid pixels on both sides; `rows` are the raw rows above and below (empty at the
-/// frame's edges).
+/// A hole with valid pixels on both sides, judged with its `context` (the rows around it among
+/// them).
 #[allow(clippy::too_many_arguments)]
 fn classify_bounded(
     p: &ScanParams,
@@ -426,7 +440,6 @@ fn classify_bounded(
     sa: Bound,
     sb: Bound,
     context: Context,
-    rows: [&[u16]; 2],
     labels: &mut [u8],
     filled: &mut [u16],
 ) {
@@ -434,26 +447,27 @@ fn classify_bounded(
         far,
         above,
         prev_labels,
-        far_rows,
+        rows,
     } = context;
+    let near = rows.near(raw.len());
     // Shadows lie on the background, so fill with the farther side's depth.
     fill(filled, h, sa.far.max(sb.far));
     // Eq. (3): the attached shadow of Sb on the surface of Sa is w = disp(Sb) − disp(Sa) wide.
     let w = p.disp(sb.near) - p.disp(sa.far);
     if w >= p.min_step && !same_surface(p, raw, h, sa, sb) {
-        label_attached(p, raw, h, w, rows, far_rows, labels);
+        label_attached(p, raw, h, w, rows, labels);
         if labels[h.start] == OTHER {
-            hidden_background(p, raw, h, sa, sb, above, rows, far_rows, labels, filled);
+            hidden_background(p, raw, h, sa, sb, above, rows, labels, filled);
         }
         beyond_range(raw, h, far, prev_labels, labels);
         return;
     }
     // A depthless occluder a pixel or two right of its shadow shares one hole with it (the lit
     // gap between them is an island the hole merged): the parts either side of the island.
-    let verdict = match detached(p, raw, h, sa, sb, rows) {
+    let verdict = match detached(p, raw, h, sa, sb, near) {
         Detached::No => match split_at_island(p, raw, h, sa, sb) {
             Some((shadow, rest)) => {
-                match depthless_occluder(p, raw, shadow, rest, sa_sb_bg(p, sa, sb), rows) {
+                match depthless_occluder(p, raw, shadow, rest, sa_sb_bg(p, sa, sb), near) {
                     Detached::Depthless { occluder, raw: at } => {
                         set(labels, raw, shadow.start, shadow.end, DETACHED);
                         fill(filled, occluder, at);
@@ -467,7 +481,7 @@ fn classify_bounded(
         other => other,
     };
     match verdict {
-        Detached::No => hidden_background(p, raw, h, sa, sb, above, rows, far_rows, labels, filled),
+        Detached::No => hidden_background(p, raw, h, sa, sb, above, rows, labels, filled),
         Detached::Measured => set(labels, raw, h.start, h.end, DETACHED),
         Detached::Depthless { occluder, raw: at } => {
             set(labels, raw, h.start, h.end, DETACHED);
@@ -538,8 +552,7 @@ fn hidden_background(
     sa: Bound,
     sb: Bound,
     above: &[u16],
-    rows: [&[u16]; 2],
-    far_rows: [&[u16]; 2],
+    rows: Rows,
     labels: &mut [u8],
     filled: &mut [u16],
 ) {
@@ -561,7 +574,7 @@ fn hidden_background(
     }
     let w = p.disp(sb.near) - p.disp(bg);
     if w >= p.min_step && (h.end - h.start) as f32 <= w + p.over {
-        label_attached(p, raw, h, w, rows, far_rows, labels);
+        label_attached(p, raw, h, w, rows, labels);
         // The shadow lies on the background, not on Sa (`fill` keeps the first value).
         for (f, &r) in filled[h.start..h.end].iter_mut().zip(&raw[h.start..h.end]) {
             if r == NO_DEPTH {
@@ -606,17 +619,9 @@ fn same_surface(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> bo
 /// Labels an attached shadow of predicted width `w` ending at the occluder (`h.end`). A hole much
 /// wider than eq. (3) allows is not one shadow: most often the shadow falls on a surface that is a
 /// hole anyway (beyond range, black, glossy), which is OTHER by definition (SPEC §1).
-fn label_attached(
-    p: &ScanParams,
-    raw: &[u16],
-    h: Run,
-    w: f32,
-    rows: [&[u16]; 2],
-    far_rows: [&[u16]; 2],
-    labels: &mut [u8],
-) {
+fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, rows: Rows, labels: &mut [u8]) {
     if (h.end - h.start) as f32 <= w + p.over {
-        let code = if thin_occluder(p, raw, h.end, w, rows, far_rows) {
+        let code = if thin_occluder(p, raw, h.end, w, rows) {
             DETACHED
         } else {
             ATTACHED
@@ -630,15 +635,9 @@ fn label_attached(
 /// between shadow and occluder (eqs. 4–5), so the shadow is detached, and the hole touches the
 /// occluder only because the sensor's widening swallowed that lit gap. The widening also eats
 /// 0–3 px of the occluder's left edge, a different amount in each row, so the occluder's width
-/// is the widest run of this row and the rows above and below (`rows`).
-fn thin_occluder(
-    p: &ScanParams,
-    raw: &[u16],
-    sb: usize,
-    w: f32,
-    rows: [&[u16]; 2],
-    far_rows: [&[u16]; 2],
-) -> bool {
+/// is the widest run of this row and the rows just above and below (`rows`; where another hole
+/// hides the occluder's end, the nearest rows where it shows).
+fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> bool {
     // Narrower by at least this much (pixels), against depth noise in `w`.
     const MARGIN: f32 = 0.5;
     let d_occ = p.disp(raw[sb]);
@@ -664,7 +663,7 @@ fn thin_occluder(
     if !background_after(raw, end) {
         // Another hole (a black object behind it, say) hides where the occluder ends here: its
         // width is read in the nearest rows above or below where the background shows.
-        return occluder_width_nearby(raw.len(), far_rows, |row| {
+        return occluder_width_nearby(raw.len(), rows, |row| {
             let (start, end) = occluder_in(row)?;
             Some(match end {
                 None => Some(false), // wider than the shift there
@@ -676,18 +675,20 @@ fn thin_occluder(
         });
     }
     // In a neighbouring row the occluder starts within a few pixels of `sb`.
-    rows.iter().all(|row| match occluder_in(row) {
-        None => true, // no occluder there: this row has no say
-        Some((start, end)) => end.is_some_and(|end| ((end - start) as f32) + MARGIN < w),
-    })
+    rows.near(raw.len())
+        .iter()
+        .all(|row| match occluder_in(row) {
+            None => true, // no occluder there: this row has no say
+            Some((start, end)) => end.is_some_and(|end| ((end - start) as f32) + MARGIN < w),
+        })
 }
 
 /// The first answer `judge` gives in the rows above and below, nearest first, up to 40 rows
-/// away (`far_rows`: every row above, every row below); false when none answers. `judge` says
+/// away; false when none answers. `judge` says
 /// `None` where the occluder is gone (that direction ends), `Some(None)` where it has no answer.
 fn occluder_width_nearby(
     n: usize,
-    [up, down]: [&[u16]; 2],
+    Rows { up, down }: Rows,
     judge: impl Fn(&[u16]) -> Option<Option<bool>>,
 ) -> bool {
     const LOOK: usize = 40;
@@ -1011,8 +1012,10 @@ fn classify_left_border(
             raw,
             h,
             w,
-            [&below[..below.len().min(raw.len())], &[]],
-            [&[], below],
+            Rows {
+                up: &[],
+                down: below,
+            },
             labels,
         );
     }
