@@ -454,7 +454,7 @@ fn classify_bounded(
     fill(filled, h, sa.far.max(sb.far));
     // Eq. (3): the attached shadow of Sb on the surface of Sa is w = disp(Sb) − disp(Sa) wide.
     let w = p.disp(sb.near) - p.disp(sa.far);
-    if w >= p.min_step && !same_surface(p, raw, h, sa, sb) {
+    if w >= p.min_step && !same_surface(p, raw, h, sa, sb, p.min_step) {
         label_attached(p, raw, h, w, rows, labels);
         if labels[h.start] == OTHER {
             hidden_background(p, raw, h, sa, sb, above, rows, labels, filled);
@@ -481,7 +481,17 @@ fn classify_bounded(
         other => other,
     };
     match verdict {
-        Detached::No => hidden_background(p, raw, h, sa, sb, above, rows, labels, filled),
+        Detached::No => {
+            // A step under `min_step` that no detached occluder explains: a thin edge's
+            // attached shadow, which the widening makes visible (eq. 3 at half the step).
+            let half = 0.5 * p.min_step;
+            if w >= half && !same_surface(p, raw, h, sa, sb, half) {
+                label_attached(p, raw, h, w, rows, labels);
+            }
+            if labels[h.start] == OTHER {
+                hidden_background(p, raw, h, sa, sb, above, rows, labels, filled);
+            }
+        }
         Detached::Measured => set(labels, raw, h.start, h.end, DETACHED),
         Detached::Depthless { occluder, raw: at } => {
             set(labels, raw, h.start, h.end, DETACHED);
@@ -604,7 +614,7 @@ enum Detached {
 
 /// True when Sb continues the surface of Sa across the hole (a hole on a slanted surface rising
 /// towards the camera, not a depth edge): extrapolate Sa's slope over the hole.
-fn same_surface(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> bool {
+fn same_surface(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound, tol: f32) -> bool {
     const SPAN: usize = 4;
     let a = h.start - 1;
     let slope = if a >= SPAN && raw[a - SPAN..=a].iter().all(|&r| r != NO_DEPTH) {
@@ -613,7 +623,7 @@ fn same_surface(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound) -> bo
         0.0
     };
     let predicted = p.disp(sa.edge) + slope * (h.end - a) as f32;
-    (p.disp(sb.edge) - predicted).abs() < p.min_step
+    (p.disp(sb.edge) - predicted).abs() < tol
 }
 
 /// Labels an attached shadow of predicted width `w` ending at the occluder (`h.end`). A hole much
@@ -1223,6 +1233,24 @@ mod tests {
             );
             assert!(l[..start].iter().chain(&l[edge..]).all(|&x| x == VALID));
         }
+    }
+
+    #[test]
+    fn sub_pixel_step_shows_its_attached_shadow_through_the_widening() {
+        // A box at 2.20 m before a wall at 2.30 m: w = f·b·(1/2.20 − 1/2.30) = 0.86 px, under
+        // `min_step`, yet the sensor's widening makes a 3 px hole left of the box's edge.
+        let c = Calibration::nyu_default();
+        let w = c.fb() * (1.0 / 2.20 - 1.0 / 2.30);
+        assert!((0.85..0.87).contains(&w), "{w}");
+        let mut row = vec![raw_at(&c, 2.30); WIDTH];
+        row[300..500].fill(raw_at(&c, 2.20));
+        row[297..300].fill(NO_DEPTH);
+        let l = run(&row);
+        assert_eq!(&l[297..300], &[ATTACHED; 3]);
+        // The same hole with the wall on both sides is a dropout, not a shadow.
+        let mut flat = vec![raw_at(&c, 2.30); WIDTH];
+        flat[297..300].fill(NO_DEPTH);
+        assert_eq!(&run(&flat)[297..300], &[OTHER; 3]);
     }
 
     #[test]
