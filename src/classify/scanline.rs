@@ -164,6 +164,17 @@ impl<'a> Rows<'a> {
             &self.down[..self.down.len().min(n)],
         ]
     }
+
+    /// The rows up to `k` above and `k` below, nearest first.
+    fn within(&self, n: usize, k: usize) -> impl Iterator<Item = &'a [u16]> + 'a {
+        let Rows { up, down } = *self;
+        let (rows_up, rows_down) = (up.len() / n, down.len() / n);
+        (1..=k).flat_map(move |j| {
+            let a = (j <= rows_up).then(|| &up[(rows_up - j) * n..(rows_up - j + 1) * n]);
+            let b = (j <= rows_down).then(|| &down[(j - 1) * n..j * n]);
+            a.into_iter().chain(b)
+        })
+    }
 }
 
 /// A run of pixels `[start, end)`.
@@ -650,6 +661,8 @@ fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, rows: Rows, label
 fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> bool {
     // Narrower by at least this much (pixels), against depth noise in `w`.
     const MARGIN: f32 = 0.5;
+    // Narrower by this much, no lit gap needs to show.
+    const TIE: f32 = 3.0;
     let d_occ = p.disp(raw[sb]);
     let Some(end) = occluder_end(p, raw, sb, d_occ, w) else {
         return false; // at least as wide as the shift: attached
@@ -685,12 +698,48 @@ fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> 
         });
     }
     // In a neighbouring row the occluder starts within a few pixels of `sb`.
-    rows.near(raw.len())
+    let narrower = rows
+        .near(raw.len())
         .iter()
         .all(|row| match occluder_in(row) {
             None => true, // no occluder there: this row has no say
             Some((start, end)) => end.is_some_and(|end| ((end - start) as f32) + MARGIN < w),
-        })
+        });
+    // Within TIE of the shift the widths cannot tell (the widening eats 0–3 px of the
+    // occluder's edge, a different amount in each row): the lit gap itself must show in a row
+    // nearby where the widening left it, unless no row nearby shows the occluder at all.
+    if !narrower || (end - sb) as f32 + TIE < w {
+        return narrower;
+    }
+    let mut occluder_seen = false;
+    for row in rows.within(raw.len(), GAP_ROWS) {
+        if lit_gap_before(p, row, sb, d_occ, w) {
+            return true;
+        }
+        occluder_seen |= occluder_in(row).is_some();
+    }
+    !occluder_seen
+}
+
+/// Rows searched either side for a lit gap between a shadow and its occluder.
+const GAP_ROWS: usize = 5;
+
+/// True when `row` shows, within a few pixels of `sb`, a lit gap before the occluder (at
+/// disparity `d_occ`, shift `w`): a hole, then one or two valid pixels at the background's
+/// depth, then the occluder.
+fn lit_gap_before(p: &ScanParams, row: &[u16], sb: usize, d_occ: f32, w: f32) -> bool {
+    let d_bg = d_occ - w;
+    let lo = sb.saturating_sub(3).max(1);
+    let hi = (sb + 4).min(row.len().saturating_sub(3));
+    (lo..hi).any(|j| {
+        let lit = |r: u16| r != NO_DEPTH && (p.disp(r) - d_bg).abs() < 2.0 * p.min_step;
+        if row[j - 1] != NO_DEPTH || !lit(row[j]) {
+            return false;
+        }
+        let len = 1 + usize::from(lit(row[j + 1]));
+        let r = row[j + len];
+        r != NO_DEPTH && p.disp(r) >= d_occ - w / 2.0
+    })
 }
 
 /// The first answer `judge` gives in the rows above and below, nearest first, up to 40 rows
@@ -1462,15 +1511,15 @@ mod tests {
     #[test]
     fn thin_rod_before_a_black_object_is_judged_where_the_wall_shows_behind_it() {
         // A 10 px rod at 1.645 m before a wall at 3 m: shift f·b·(1/1.645 − 1/3) = 12 px > 10 px,
-        // so its shadow [288, 298) is detached; the sensor's widening swallows the 2 px lit gap,
-        // and the hole [288, 300) touches the rod [300, 310). In rows 200..260 a black object
-        // right of the rod, [310, 360), hides where the rod ends; the rows above and below show
-        // it (up to 40 rows away).
+        // so its shadow [288, 298) is detached; the sensor's widening swallows the 2 px lit gap
+        // in most rows (not every fourth), and the hole [288, 300) touches the rod [300, 310). In
+        // rows 200..260 a black object right of the rod, [310, 360), hides where the rod ends;
+        // the rows above and below show it (up to 40 rows away).
         let (c, p) = params();
         let mut raw = vec![raw_at(&c, 3.0); PIXELS];
         for v in 0..HEIGHT {
             let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
-            row[288..300].fill(NO_DEPTH);
+            row[288..if v % 4 == 0 { 298 } else { 300 }].fill(NO_DEPTH);
             row[300..310].fill(raw_at(&c, 1.645));
             if (200..260).contains(&v) {
                 row[310..360].fill(NO_DEPTH);
@@ -1478,12 +1527,14 @@ mod tests {
         }
         let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
         classify_frame(&p, &raw, &mut labels, &mut filled);
-        for v in [100, 200, 229, 259, 479] {
+        for v in [101, 201, 229, 259, 479] {
             let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
             assert!(hole.iter().all(|&l| l == DETACHED), "row {v}: {hole:?}");
         }
-        // A rod as wide as its shift (14 px) casts an attached shadow, black object or not.
+        // A rod wider than its shift (14 px) casts an attached shadow, black object or not, and
+        // no lit gap shows.
         for v in 0..HEIGHT {
+            raw[v * WIDTH + 288..v * WIDTH + 300].fill(NO_DEPTH);
             raw[v * WIDTH + 300..v * WIDTH + 314].fill(raw_at(&c, 1.645));
             if (200..260).contains(&v) {
                 raw[v * WIDTH + 314..v * WIDTH + 360].fill(NO_DEPTH);
@@ -1492,6 +1543,28 @@ mod tests {
         classify_frame(&p, &raw, &mut labels, &mut filled);
         for v in [100, 229] {
             let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
+            assert!(hole.iter().all(|&l| l == ATTACHED), "row {v}: {hole:?}");
+        }
+    }
+
+    #[test]
+    fn rod_as_wide_as_its_shift_stays_attached_where_the_widening_eats_its_edge_in_every_row() {
+        // A 12 px rod [300, 312) at 1.645 m before a wall at 3 m: shift 12 px, as wide as the
+        // rod, so its shadow [288, 300) is attached. The sensor's widening eats 1–2 px of the
+        // rod's left edge in every row, so no row measures it 12 px wide; but no row shows a lit
+        // gap between shadow and rod either.
+        let (c, p) = params();
+        let mut raw = vec![raw_at(&c, 3.0); PIXELS];
+        for v in 0..HEIGHT {
+            let eaten = 1 + v % 2;
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            row[300..312].fill(raw_at(&c, 1.645));
+            row[287..300 + eaten].fill(NO_DEPTH);
+        }
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        for v in [1, 100, 241, 478] {
+            let hole = &labels[v * WIDTH + 287..v * WIDTH + 301];
             assert!(hole.iter().all(|&l| l == ATTACHED), "row {v}: {hole:?}");
         }
     }
