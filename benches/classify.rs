@@ -117,6 +117,11 @@ fn bench(c: &mut Criterion) {
                 )
             });
         }
+        // The vertical consensus of one view's labels (on the scanline's output; it settles
+        // the same few pixels each run, the pass itself is the cost).
+        g.bench_function(format!("stage_consensus/{name}"), |b| {
+            b.iter(|| umbra::classify::consensus::settle(black_box(&mut out.ir_labels)))
+        });
         let mut warp = umbra::classify::align::Warp::new(cal);
         g.bench_function(format!("stage_warp_rgb/{name}"), |b| {
             b.iter(|| {

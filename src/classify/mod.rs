@@ -4,6 +4,7 @@
 //! Everything here is pure computation on caller-owned buffers: no I/O, no per-frame allocation.
 
 pub mod align;
+pub mod consensus;
 pub mod depthless;
 pub mod scanline;
 
@@ -97,6 +98,7 @@ impl Classifier {
             self.colour
                 .apply(raw, rgb, &mut out.ir_labels, &mut self.filled);
         }
+        consensus::settle(&mut out.ir_labels);
         self.warp.apply_with_colour(
             &self.filled,
             &out.ir_labels,
@@ -104,6 +106,7 @@ impl Classifier {
             &mut out.rgb_labels,
             &mut out.registered_mm,
         );
+        consensus::settle(&mut out.rgb_labels);
     }
 }
 
