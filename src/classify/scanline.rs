@@ -612,6 +612,10 @@ const WIDENING: f32 = 3.0;
 /// Narrowest hole (pixels) taken for an occluder without depth: narrower ones are dropouts.
 const MIN_DEPTHLESS_WIDTH: usize = 3;
 
+/// Widest dropout (pixels) the detached test's search steps over in the lit gap between a shadow
+/// and its occluder, when it is no depthless occluder's hole.
+const MAX_GAP_DROPOUT: usize = 16;
+
 /// Outcome of [`detached`].
 enum Detached {
     /// Not a detached shadow.
@@ -878,7 +882,21 @@ fn detached(
                     return Detached::No;
                 }
                 let start = u + 1 - gap_holes;
-                return depthless_occluder(p, raw, h, start, d_bg, rows);
+                match depthless_occluder(p, raw, h, start, d_bg, rows) {
+                    // A dropout in the lit gap, no depthless occluder for this shadow by its
+                    // geometry (one that is, but chains or is not repeated, ends the search):
+                    // search on past it.
+                    Detached::No if hole_pair(p, raw, h, start, d_bg).is_none() => {
+                        let end = u + raw[u..].iter().take_while(|&&r| r == NO_DEPTH).count();
+                        if end - start > MAX_GAP_DROPOUT {
+                            return Detached::No;
+                        }
+                        u = end;
+                        gap_holes = 0;
+                        continue;
+                    }
+                    found => return found,
+                }
             }
             u += 1;
             continue;
@@ -1380,6 +1398,33 @@ mod tests {
             "{:?}",
             &l[fa - w - 1..=fb - w + 1]
         );
+    }
+
+    #[test]
+    fn dropout_in_the_lit_gap_does_not_hide_the_rod_from_its_shadow() {
+        // A rod 14 px wide at 1 m before a wall at 3 m: w = 29 px, so its shadow [Fa−w, Fb−w] is
+        // detached with 15 px of lit wall before the rod. One or two 3 px dropouts there (too
+        // narrow to be a depthless rod casting a 14 px shadow) do not end the search for the rod.
+        let c = Calibration::nyu_default();
+        let w = 29;
+        let (fa, fb) = (300, 313);
+        for dropouts in [&[288][..], &[288, 294]] {
+            let mut row = vec![raw_at(&c, 3.0); WIDTH];
+            row[fa..=fb].fill(raw_at(&c, 1.0));
+            row[fa - w..=fb - w].fill(NO_DEPTH);
+            for &at in dropouts {
+                row[at..at + 3].fill(NO_DEPTH);
+            }
+            let l = run(&row);
+            assert!(
+                l[fa - w..=fb - w].iter().all(|&x| x == DETACHED),
+                "dropouts at {dropouts:?}: {:?}",
+                &l[fa - w - 1..=fb - w + 1]
+            );
+            assert!(dropouts
+                .iter()
+                .all(|&at| l[at..at + 3].iter().all(|&x| x == OTHER)));
+        }
     }
 
     #[test]
