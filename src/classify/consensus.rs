@@ -7,7 +7,8 @@
 //! pixels never change and no pixel becomes valid, so shadows only trade labels inside holes.
 //! No shadow label is taken away: a row that found a shadow had the evidence for it, while its
 //! neighbours may have had none (a colour edge the RGB camera sees only in some rows, say).
-//! Applied to each view's finished labels (about 5 µs a frame).
+//! Applied to the IR view's finished labels before the warp carries them over (about 5 µs a
+//! frame; a second pass on the RGB view's labels gained 0.001 of F1 for twice that).
 
 use crate::labels::{OTHER, VALID, WIDTH};
 

@@ -106,7 +106,6 @@ impl Classifier {
             &mut out.rgb_labels,
             &mut out.registered_mm,
         );
-        consensus::settle(&mut out.rgb_labels);
     }
 }
 
