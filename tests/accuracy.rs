@@ -613,17 +613,20 @@ fn simple_scenes_meet_the_issue_targets_in_the_ir_view() {
 #[test]
 fn complex_scenes_keep_shadow_precision() {
     // Complex scenes include black and glossy occluders with no depth at all, whose shadows a
-    // depth-only classifier cannot attribute; precision is what must hold (measured 0.987 IR).
+    // depth-only classifier cannot attribute; precision is what must hold. Regression floors a
+    // little under the measured values (IR any shadow P 0.997 / R 0.852, detached F1 0.945,
+    // other F1 0.977; RGB any shadow P 0.982).
     let (ir, rgb) = score(Category::Complex, 6);
     let any = ir.any_shadow();
-    assert!(any.precision.unwrap() >= 0.97, "IR any shadow {any:?}");
-    assert!(any.recall.unwrap() >= 0.60, "IR any shadow {any:?}");
+    assert!(any.precision.unwrap() >= 0.99, "IR any shadow {any:?}");
+    assert!(any.recall.unwrap() >= 0.82, "IR any shadow {any:?}");
     assert!(
-        rgb.any_shadow().precision.unwrap() >= 0.88,
+        rgb.any_shadow().precision.unwrap() >= 0.96,
         "RGB any shadow {:?}",
         rgb.any_shadow()
     );
-    at_least(&ir, Some(OTHER), 0.93, "IR other");
+    at_least(&ir, Some(DETACHED), 0.92, "IR detached");
+    at_least(&ir, Some(OTHER), 0.96, "IR other");
 }
 
 /// A black rod of radius `r` at 1.5 m before a wall at 3 m, through the Kinect sensor model
