@@ -109,7 +109,7 @@ fn classify_frame_body(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &
     // Last valid raw value seen in each column in the rows above: background for holes that touch
     // the left border, where the row itself has no Sa.
     let mut column_memory = [NO_DEPTH; WIDTH];
-    let far = farthest_measured(raw);
+    let range = Range::of(raw);
     let mut holes = [Run::default(); MAX_RUNS];
     for (v, (row, fill)) in raw
         .chunks_exact(WIDTH)
@@ -125,7 +125,7 @@ fn classify_frame_body(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &
             &raw[..v * WIDTH],
             prev_labels,
             &raw[(v + 1) * WIDTH..],
-            far,
+            range,
             &mut rest[..WIDTH],
             fill,
             &mut holes,
@@ -139,8 +139,8 @@ fn classify_frame_body(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &
 /// What a bounded hole is judged against besides its own row.
 #[derive(Clone, Copy)]
 struct Context<'a> {
-    /// The frame's [`farthest_measured`] raw value.
-    far: u16,
+    /// What the frame says about the sensor's range.
+    range: Range,
     /// Per column, the last valid raw value in the rows above (or 2047).
     above: &'a [u16],
     /// The labels of the row above (empty for the first row).
@@ -207,11 +207,68 @@ pub fn farthest_measured(raw: &[u16]) -> u16 {
     lanes.into_iter().max().unwrap_or(0).max(tail)
 }
 
+/// What a frame says about the sensor's range limit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Range {
+    /// The farthest valid raw value ([`farthest_measured`]): the noisiest far pixel.
+    pub far: u16,
+    /// Where the values stop being common ([`range_limit`]): a surface at the limit scatters a
+    /// sparse tail a raw unit or two past it.
+    pub limit: u16,
+}
+
+impl Range {
+    /// The range of frame `raw`.
+    #[inline(always)]
+    pub fn of(raw: &[u16]) -> Range {
+        let far = farthest_measured(raw);
+        Range {
+            far,
+            limit: range_limit(raw, far),
+        }
+    }
+
+    /// A range with nothing known under `far`.
+    pub fn at(far: u16) -> Range {
+        Range { far, limit: far }
+    }
+}
+
+/// Steps down from `far` while a value is under a quarter as common as the next nearer one, at
+/// most three raw units, counting every fourth row (the counts are large where it matters).
+#[inline(always)]
+pub fn range_limit(raw: &[u16], far: u16) -> u16 {
+    const STEPS: usize = 3;
+    if far <= STEPS as u16 {
+        return far;
+    }
+    let mut counts = [0u32; STEPS + 1];
+    for row in raw.chunks_exact(WIDTH).step_by(4) {
+        let mut c = [0u16; STEPS + 1];
+        for &r in row {
+            for (k, c) in c.iter_mut().enumerate() {
+                *c += u16::from(r == far - k as u16);
+            }
+        }
+        for (t, c) in counts.iter_mut().zip(c) {
+            *t += u32::from(c);
+        }
+    }
+    let mut limit = far;
+    for k in 0..STEPS {
+        if 4 * counts[k] >= counts[k + 1] {
+            break;
+        }
+        limit -= 1;
+    }
+    limit
+}
+
 /// Classifies one row: `raw` in, `labels` and `filled` out. `above` holds, per column, the last
 /// valid raw value in the rows above (or 2047); `prev` is the raw row above (empty for the first
 /// row); `below` is the rest of the frame under this row (whole rows, possibly empty). They serve
-/// holes that touch the left border, and the vertical check of depthless occluders. `far` is the
-/// frame's [`farthest_measured`] raw value.
+/// holes that touch the left border, and the vertical check of depthless occluders. `range` is
+/// the frame's [`Range`].
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn classify_row(
@@ -220,7 +277,7 @@ pub fn classify_row(
     above: &[u16],
     prev: &[u16],
     below: &[u16],
-    far: u16,
+    range: Range,
     labels: &mut [u8],
     filled: &mut [u16],
 ) {
@@ -232,7 +289,7 @@ pub fn classify_row(
         prev,
         &[],
         below,
-        far,
+        range,
         labels,
         filled,
         &mut holes,
@@ -250,7 +307,7 @@ fn classify_row_with(
     up: &[u16],
     prev_labels: &[u8],
     below: &[u16],
-    far: u16,
+    range: Range,
     labels: &mut [u8],
     filled: &mut [u16],
     holes: &mut [Run; MAX_RUNS],
@@ -270,7 +327,7 @@ fn classify_row_with(
         match (left, right) {
             (Some(sa), Some(sb)) => {
                 let context = Context {
-                    far,
+                    range,
                     above,
                     prev_labels,
                     rows: Rows { up, down: below },
@@ -457,7 +514,7 @@ fn classify_bounded(
     filled: &mut [u16],
 ) {
     let Context {
-        far,
+        range,
         above,
         prev_labels,
         rows,
@@ -472,7 +529,7 @@ fn classify_bounded(
         if labels[h.start] == OTHER {
             hidden_background(p, raw, h, sa, sb, above, rows, labels, filled);
         }
-        beyond_range(raw, h, far, prev_labels, labels);
+        beyond_range(raw, h, range, above, prev_labels, labels);
         return;
     }
     // A depthless occluder a pixel or two right of its shadow shares one hole with it (the lit
@@ -805,8 +862,16 @@ fn occluder_end(p: &ScanParams, row: &[u16], start: usize, d_occ: f32, w: f32) -
 
 /// A shadow falling on a surface that recedes past the sensor's range would be a hole even if
 /// lit, so it is OTHER (SPEC §1): extrapolate Sa's surface across the hole and give back to OTHER
-/// the pixels where it lies farther than anything measured in the frame (`far`).
-fn beyond_range(raw: &[u16], h: Run, far: u16, prev_labels: &[u8], labels: &mut [u8]) {
+/// the pixels where it lies farther than anything measured in the frame (`far`), or past the
+/// range limit under `far`'s noise tail where no row above measured anything in that column.
+fn beyond_range(
+    raw: &[u16],
+    h: Run,
+    Range { far, limit }: Range,
+    above: &[u16],
+    prev_labels: &[u8],
+    labels: &mut [u8],
+) {
     const SPAN: usize = 16;
     let a = h.start - 1;
     // The baseline stays on Sa's surface: it stops at holes and at steps of more than 4 raw units
@@ -834,6 +899,7 @@ fn beyond_range(raw: &[u16], h: Run, far: u16, prev_labels: &[u8], labels: &mut 
     for (i, l) in labels[h.start..h.end].iter_mut().enumerate() {
         let at = f32::from(raw[a]) + slope * (i + 1) as f32;
         let out = at > f32::from(far) + 0.5
+            || (at > f32::from(limit) + 0.5 && above.get(h.start + i) == Some(&NO_DEPTH))
             || (at > f32::from(far) - NEAR_LIMIT && prev_labels.get(h.start + i) == Some(&OTHER));
         if out && *l != VALID {
             *l = OTHER;
@@ -1173,7 +1239,7 @@ mod tests {
             &[NO_DEPTH; WIDTH],
             above,
             below,
-            2046,
+            Range::at(2046),
             &mut labels,
             &mut filled,
         );
@@ -1246,7 +1312,16 @@ mod tests {
         row[400..500].fill(raw_at(&c, 1.0));
         let classify = |memory: &[u16]| {
             let (mut labels, mut filled) = (vec![VALID; WIDTH], vec![0; WIDTH]);
-            classify_row(&p, &row, memory, &[], &[], 2046, &mut labels, &mut filled);
+            classify_row(
+                &p,
+                &row,
+                memory,
+                &[],
+                &[],
+                Range::at(2046),
+                &mut labels,
+                &mut filled,
+            );
             (labels, filled)
         };
         let (labels, filled) = classify(&wall_with_holes(&c, &[]));
@@ -1480,7 +1555,7 @@ mod tests {
             &[NO_DEPTH; WIDTH],
             &[],
             &[],
-            far,
+            Range::at(far),
             &mut labels,
             &mut filled,
         );
@@ -1505,11 +1580,92 @@ mod tests {
             &[NO_DEPTH; WIDTH],
             &[],
             &[],
-            1014,
+            Range::at(1014),
             &mut labels,
             &mut filled,
         );
         assert!(labels[start..end].iter().all(|&x| x == ATTACHED));
+    }
+
+    #[test]
+    fn range_limit_steps_past_a_sparse_noise_tail_only() {
+        // Counts per raw value on the rows `range_limit` reads (every fourth): a surface at the
+        // range limit 1014, its noise reaching 1015 (a tenth as often) and 1016 (4 pixels).
+        let frame = |counts: &[(u16, usize)]| {
+            let mut raw = vec![NO_DEPTH; PIXELS];
+            let mut slots = (0..HEIGHT)
+                .step_by(4)
+                .flat_map(|v| (0..WIDTH).map(move |u| v * WIDTH + u));
+            for &(value, n) in counts {
+                for i in slots.by_ref().take(n) {
+                    raw[i] = value;
+                }
+            }
+            raw
+        };
+        let raw = frame(&[
+            (1012, 3500),
+            (1013, 3400),
+            (1014, 2000),
+            (1015, 300),
+            (1016, 4),
+        ]);
+        assert_eq!(
+            Range::of(&raw),
+            Range {
+                far: 1016,
+                limit: 1014
+            }
+        );
+        // A wall within range ends as steeply, but its last value is a third as common as the
+        // one before it, not a tenth: nothing to step past.
+        let raw = frame(&[(1008, 6900), (1009, 2500)]);
+        assert_eq!(
+            Range::of(&raw),
+            Range {
+                far: 1009,
+                limit: 1009
+            }
+        );
+        let raw = frame(&[(1008, 6900), (1009, 15)]);
+        assert_eq!(range_limit(&raw, 1009), 1008);
+    }
+
+    #[test]
+    fn shadow_where_the_wall_passes_the_range_limit_is_other_if_nothing_above_was_measured() {
+        // The receding wall of the test above (raw 1000 + u/6, last measured 1075 at column 454),
+        // now with noise reaching 2 raw units past that limit: `far` alone (1077, 12 px of wall
+        // at 1/6 raw per px) would keep the first 12 px of the hole as shadow. Where no row above
+        // measured anything in the hole's columns, the wall is out of range past the limit
+        // there; where the rows above saw a surface, that rule stays out of it.
+        let (_, p) = params();
+        let mut row: Vec<u16> = (0..WIDTH).map(|u| 1000 + (u as u16) / 6).collect();
+        let (start, end) = (455, 483);
+        row[start..end].fill(NO_DEPTH);
+        row[end..].fill(806);
+        let limit = *row[..start].iter().max().unwrap();
+        let range = Range {
+            far: limit + 2,
+            limit,
+        };
+        let shadow = |above: &[u16]| {
+            let (mut labels, mut filled) = (vec![0; WIDTH], vec![0; WIDTH]);
+            classify_row(&p, &row, above, &[], &[], range, &mut labels, &mut filled);
+            assert!(labels[start..end]
+                .iter()
+                .all(|&x| x == ATTACHED || x == OTHER));
+            labels[start..end]
+                .iter()
+                .filter(|&&x| x == ATTACHED)
+                .count()
+        };
+        let nothing_above = shadow(&[NO_DEPTH; WIDTH]);
+        assert!(
+            (1..=4).contains(&nothing_above),
+            "{nothing_above} px of shadow"
+        );
+        let seen_above = shadow(&vec![1070u16; WIDTH]);
+        assert!(seen_above >= 10, "{seen_above} px of shadow");
     }
 
     #[test]
@@ -1647,7 +1803,7 @@ mod tests {
             &[NO_DEPTH; WIDTH],
             &[],
             &[],
-            900,
+            Range::at(900),
             &mut labels,
             &mut filled,
         );
@@ -1700,7 +1856,7 @@ mod tests {
             &[wall; WIDTH],
             &[],
             &[],
-            2046,
+            Range::at(2046),
             &mut labels,
             &mut filled,
         );
@@ -1714,7 +1870,7 @@ mod tests {
             &[NO_DEPTH; WIDTH],
             &[],
             &[],
-            2046,
+            Range::at(2046),
             &mut labels,
             &mut filled,
         );
@@ -1743,7 +1899,7 @@ mod tests {
             &[raw_at(&c, 1.45); WIDTH],
             &[],
             &[],
-            2046,
+            Range::at(2046),
             &mut labels,
             &mut filled,
         );
