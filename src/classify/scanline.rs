@@ -692,7 +692,8 @@ enum Detached {
 }
 
 /// True when Sb continues the surface of Sa across the hole (a hole on a slanted surface rising
-/// towards the camera, not a depth edge): extrapolate Sa's slope over the hole.
+/// towards the camera, not a depth edge): Sa's slope extrapolated over the hole lands within
+/// `tol` pixels of disparity of Sb.
 fn same_surface(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound, tol: f32) -> bool {
     const SPAN: usize = 4;
     let a = h.start - 1;
