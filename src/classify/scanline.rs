@@ -537,7 +537,10 @@ fn classify_bounded(
     let verdict = match detached(p, raw, h, sa, sb, near) {
         Detached::No => match split_at_island(p, raw, h, sa, sb) {
             Some((shadow, rest)) => {
-                match depthless_occluder(p, raw, shadow, rest, sa_sb_bg(p, sa, sb), near) {
+                let d_bg = sa_sb_bg(p, sa, sb);
+                let verdict = hole_pair(p, raw, shadow, rest, d_bg)
+                    .map(|pair| depthless_occluder(p, raw, shadow, pair, d_bg, near));
+                match verdict.unwrap_or(Detached::No) {
                     Detached::Depthless { occluder, raw: at } => {
                         set(labels, raw, shadow.start, shadow.end, DETACHED);
                         fill(filled, occluder, at);
@@ -957,25 +960,23 @@ fn detached(
                     return Detached::No;
                 }
                 let start = u + 1 - gap_holes;
-                match depthless_occluder(p, raw, h, start, d_bg, rows) {
-                    // A dropout in the lit gap, no depthless occluder for this shadow by its
-                    // geometry (one that is, but chains or is not repeated, ends the search):
-                    // search on past it.
-                    Detached::No if hole_pair(p, raw, h, start, d_bg).is_none() => {
-                        let end = u + raw[u..].iter().take_while(|&&r| r == NO_DEPTH).count();
-                        stepped += 1;
-                        if end - start > MAX_GAP_DROPOUT
-                            || stepped > MAX_GAP_STEPS
-                            || h.end - h.start < MIN_STEP_OVER
-                        {
-                            return Detached::No;
-                        }
-                        u = end;
-                        gap_holes = 0;
-                        continue;
-                    }
-                    found => return found,
+                // A hole that could be this shadow's depthless occluder by its geometry decides
+                // (also when it chains or is not repeated: then no one can tell). Any other is a
+                // dropout in the lit gap: the search goes on past it.
+                if let Some(pair) = hole_pair(p, raw, h, start, d_bg) {
+                    return depthless_occluder(p, raw, h, pair, d_bg, rows);
                 }
+                let end = u + raw[u..].iter().take_while(|&&r| r == NO_DEPTH).count();
+                stepped += 1;
+                if end - start > MAX_GAP_DROPOUT
+                    || stepped > MAX_GAP_STEPS
+                    || h.end - h.start < MIN_STEP_OVER
+                {
+                    return Detached::No;
+                }
+                u = end;
+                gap_holes = 0;
+                continue;
             }
             u += 1;
             continue;
@@ -1012,20 +1013,18 @@ fn detached(
 /// Eqs. (4)–(5) for an occluder that returns no depth (black, glossy): its shadow on a plane
 /// is its own image shifted left by `w = disp(occluder) − disp(background)`, so the hole `h` is
 /// its detached shadow when a hole of the same width (plus the sensor's widening), on the same
-/// background, starts at `start` right of it, and the shift puts the occluder within the
-/// sensor's range. Nothing else in the row tells this pair from two chance dropouts, so the rows
-/// above and below (`rows`) must both repeat it with the same shift: an occluder is a solid.
+/// background, lies right of it, and the shift puts the occluder within the sensor's range: the
+/// `(shift, occluder)` pair [`hole_pair`] found. Nothing else in the row tells this pair from two
+/// chance dropouts, so the rows above and below (`rows`) must both repeat it with the same
+/// shift: an occluder is a solid.
 fn depthless_occluder(
     p: &ScanParams,
     raw: &[u16],
     h: Run,
-    start: usize,
+    (shift, occluder): (f32, Run),
     d_bg: f32,
     rows: [&[u16]; 2],
 ) -> Detached {
-    let Some((shift, occluder)) = hole_pair(p, raw, h, start, d_bg) else {
-        return Detached::No;
-    };
     // Several such holes in a row (two black rods: shadow, shadow, rod, rod) chain up, and
     // nothing in the depth map says which pairs belong together: when the hole left of `h`
     // pairs with `h`, or the occluder pairs with the hole after it, none is labelled.
