@@ -713,8 +713,16 @@ fn same_surface(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, sb: Bound, tol: 
 /// wider than eq. (3) allows is not one shadow: most often the shadow falls on a surface that is a
 /// hole anyway (beyond range, black, glossy), which is OTHER by definition (SPEC §1).
 fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, rows: Rows, labels: &mut [u8]) {
-    if (h.end - h.start) as f32 <= w + p.over {
+    let width = (h.end - h.start) as f32;
+    if width <= w + p.over {
         let code = if thin_occluder(p, raw, h.end, w, rows) {
+            // A detached shadow touches its thin occluder only when the widening swallowed the
+            // lit gap: the hole then spans shadow and gap, the whole shift. A much narrower
+            // hole beside a thin occluder lies where the projector lit the background (that
+            // rod's shadow is farther left): something else, a black rod say, OTHER.
+            if width + SWALLOWED_GAP_SLACK < w {
+                return;
+            }
             DETACHED
         } else {
             ATTACHED
@@ -795,6 +803,10 @@ fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> 
 
 /// Rows searched either side for a lit gap between a shadow and its occluder.
 const GAP_ROWS: usize = 5;
+
+/// How much narrower than the shift (pixels) a hole touching a thin occluder may be and still be
+/// its detached shadow with the lit gap swallowed: the widening and pixel sampling of either end.
+const SWALLOWED_GAP_SLACK: f32 = WIDENING + 1.0;
 
 /// True when `row` shows, within a few pixels of `sb`, a lit gap before the occluder (at
 /// disparity `d_occ`, shift `w`): a hole, then one or two valid pixels at the background's
@@ -1437,6 +1449,26 @@ mod tests {
             "{:?}",
             &labels[265..345]
         );
+    }
+
+    #[test]
+    fn narrow_hole_beside_a_thin_rod_is_not_its_shadow() {
+        // A 6 px rod at 1 m before a wall at 3 m (shift w = 29.1 px) casts its detached shadow
+        // on [271, 277). A 5 px hole right beside the rod, [295, 300), is lit wall by that
+        // geometry (a black rod there, say): not the rod's shadow, whose hole would span the
+        // whole shift if the widening had swallowed the lit gap.
+        let (c, _) = params();
+        let mut row = vec![raw_at(&c, 3.0); WIDTH];
+        row[300..306].fill(raw_at(&c, 1.0));
+        row[271..277].fill(NO_DEPTH);
+        row[295..300].fill(NO_DEPTH);
+        let labels = run(&row);
+        assert!(
+            labels[295..300].iter().all(|&l| l == OTHER),
+            "{:?}",
+            &labels[290..306]
+        );
+        assert!(labels[271..277].iter().all(|&l| l == DETACHED));
     }
 
     #[test]
