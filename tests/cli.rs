@@ -110,6 +110,74 @@ fn eval_scores_the_box_scene_against_ground_truth() {
     assert!(g.contains(&ATTACHED));
 }
 
+/// Another Kinect's calibration (ROS openni defaults: other focal lengths, centres, raw model).
+const OTHER_KINECT: &str = "\
+[depth]
+fx = 575.8157
+fy = 575.8157
+cx = 319.5
+cy = 239.5
+width = 640
+height = 480
+[rgb]
+fx = 525.0
+fy = 525.0
+cx = 319.5
+cy = 239.5
+width = 640
+height = 480
+[depth_to_rgb]
+rotation = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
+translation = [-0.025, 0.0, 0.0]
+[raw]
+numerator = 325.616
+denominator = 1084.6
+baseline_m = 0.075
+";
+
+#[test]
+fn synth_simulates_another_kinects_calibration_and_the_classifier_follows_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let calib_path = tmp.path().join("kinect.toml");
+    std::fs::write(&calib_path, OTHER_KINECT).unwrap();
+    let (rec, gt) = (tmp.path().join("rec"), tmp.path().join("gt"));
+    let (rec, gt) = (rec.display().to_string(), gt.display().to_string());
+    umbra(&[
+        "synth",
+        &rec,
+        "--gt",
+        &gt,
+        "--scene",
+        "box",
+        "--frames",
+        "1",
+        "--calibration",
+        &calib_path.display().to_string(),
+        // Shadows exactly as wide as geometry, for the check by hand below.
+        "--ideal",
+    ]);
+    // The recording carries that calibration.
+    let wanted = umbra::calib::Calibration::load(&calib_path).unwrap();
+    assert_eq!(Recording::open(Path::new(&rec)).unwrap().calibration(), &wanted);
+
+    // The simulator uses it. By hand: the box's front face (1 m) starts at X = −0.2 m, so at
+    // u = cx + fx·X/Z = 319.5 − 575.8157·0.2 = 204.3 (NYU's: 196.5), and its attached shadow on
+    // the wall at 3 m is f·b·(1/1 − 1/3) = 575.8157 · 0.075 · 2/3 = 28.79 px wide, left of it.
+    let mut g = vec![0u8; PIXELS];
+    read_label_png(&label_path(Path::new(&gt), 0, "depth"), &mut g).unwrap();
+    let row = &g[240 * 640..241 * 640];
+    let start = row.iter().position(|&l| l == ATTACHED).unwrap() as f64;
+    let end = row.iter().rposition(|&l| l == ATTACHED).unwrap() as f64 + 1.0;
+    assert!((end - 204.3).abs() <= 1.0, "attached run [{start}, {end})");
+    assert!((end - start - 28.79).abs() <= 1.0, "attached run [{start}, {end})");
+
+    // And the classifier, reading it from the recording, still finds that shadow.
+    let out = umbra(&["eval", &rec, "--gt", &gt, "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let attached = &v["groups"]["all"]["ir"]["classes"]["attached"];
+    assert!(attached["f1"].as_f64().unwrap() > 0.97, "{attached}");
+}
+
 #[test]
 fn render_draws_three_panels_with_legend() {
     let tmp = tempfile::tempdir().unwrap();

@@ -49,6 +49,10 @@ pub struct Args {
     /// Number of scenes in a suite.
     #[arg(long, default_value_t = 10, requires = "suite")]
     pub count: usize,
+    /// Simulate a Kinect with this calibration (SPEC §3 TOML, as `calibration.toml` of a
+    /// recording) instead of the NYU defaults; it is written into every recording made.
+    #[arg(long, value_name = "FILE")]
+    pub calibration: Option<PathBuf>,
 }
 
 /// Runs `umbra synth`.
@@ -59,7 +63,10 @@ pub fn run(a: Args) -> Result<()> {
             a.frames
         )));
     }
-    let calib = Calibration::nyu_default();
+    let calib = match &a.calibration {
+        Some(path) => Calibration::load(path)?,
+        None => Calibration::nyu_default(),
+    };
     let started = Instant::now();
     // (recording dir, gt dir, job) for every recording to write.
     let mut work: Vec<(PathBuf, PathBuf, Job)> = Vec::new();
