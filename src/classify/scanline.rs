@@ -344,30 +344,48 @@ fn classify_row_with(
 /// A "flying" pixel at a depth edge mixes foreground and background into a depth between them:
 /// a surface that is not there, which the RGB camera never sees. For the warp (`filled` only; the
 /// pixel stays VALID with its measured value) it joins the side whose depth it is nearer to, so
-/// the alignment gap opens at the edge instead of around the phantom.
+/// the alignment gap opens at the edge instead of around the phantom. Only between two surfaces
+/// that are not themselves ramps as steep as the step: on a face receding at a pixel of disparity
+/// per pixel every pixel lies between its neighbours, and snapping it would cut the face into
+/// steps that the warp opens into false alignment shadows.
 #[inline(always)]
 fn snap_flying_pixels(p: &ScanParams, raw: &[u16], filled: &mut [u16]) {
     let big = p.edge_raw;
     let n = raw.len();
-    // Three shifted views (left, middle, right) and selects instead of branches: vectorises.
-    let triples = raw[..n - 2].iter().zip(&raw[1..n - 1]).zip(&raw[2..]);
+    // Five shifted views of one length and selects instead of branches: vectorises.
+    let len = n - 4;
+    let (a2s, as_, ms, bs, b2s) = (
+        &raw[..len],
+        &raw[1..1 + len],
+        &raw[2..2 + len],
+        &raw[3..3 + len],
+        &raw[4..4 + len],
+    );
+    let out = &mut filled[2..2 + len];
     let quarter = big / 4;
     // All values are ≤ 2047, so u16 arithmetic (16 lanes per AVX2 instruction) cannot overflow;
     // where `flying` is false the wrapping differences are garbage and discarded by the select.
-    for (f, ((&a, &m), &b)) in filled[1..n - 1].iter_mut().zip(triples) {
+    for i in 0..len {
+        let (a2, a, m, b, b2) = (a2s[i], as_[i], ms[i], bs[i], b2s[i]);
         let (lo, hi) = (a.min(b), a.max(b));
+        let step = hi.wrapping_sub(lo);
+        // A side is flat when its next step is under a third of the edge's, or a hole.
+        let flat = |x: u16, y: u16| (x.abs_diff(y) * 3 < step) | (x == NO_DEPTH);
         // Strictly between two valid sides a full edge step apart, and clear of both; holes
         // (2047) are the largest value, so `hi < NO_DEPTH` and `m < NO_DEPTH` exclude them.
         let flying = (hi < NO_DEPTH)
             & (m < NO_DEPTH)
-            & (hi.wrapping_sub(lo) >= big)
+            & (step >= big)
             & (m >= lo + quarter)
-            & (m.wrapping_add(quarter) <= hi);
+            & (m.wrapping_add(quarter) <= hi)
+            & flat(a2, a)
+            & flat(b2, b);
         let nearer = if m.wrapping_sub(lo) <= hi.wrapping_sub(m) {
             lo
         } else {
             hi
         };
+        let f = &mut out[i];
         *f = if flying { nearer } else { *f };
     }
 }
@@ -1843,6 +1861,31 @@ mod tests {
         assert_eq!(labels[200], VALID, "the measured pixel keeps its label");
         assert_eq!(filled[300], 880);
         assert_eq!(&filled[..200], &row[..200]);
+    }
+
+    #[test]
+    fn a_steeply_receding_face_is_no_row_of_flying_pixels() {
+        let (_, p) = params();
+        // A box face receding at 8 raw units (about a pixel of disparity) per pixel, from a
+        // front face at 700 to a wall at 900: each of its pixels lies between its neighbours a
+        // full edge step apart, yet it is a surface, and the warp must see it unbroken.
+        let mut row = vec![900u16; WIDTH];
+        row[100..200].fill(700);
+        for (k, r) in row[200..225].iter_mut().enumerate() {
+            *r = 700 + 8 * k as u16;
+        }
+        let (mut labels, mut filled) = (vec![0; WIDTH], vec![0; WIDTH]);
+        classify_row(
+            &p,
+            &row,
+            &[NO_DEPTH; WIDTH],
+            &[],
+            &[],
+            Range::at(900),
+            &mut labels,
+            &mut filled,
+        );
+        assert_eq!(&filled[195..230], &row[195..230]);
     }
 
     #[test]
