@@ -1102,20 +1102,38 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
         let r = raw[u];
         r != NO_DEPTH && (p.disp(r) - d_bg).abs() < 2.0 * p.min_step
     };
-    if h.start == 0 || end >= n || end - start < MIN_DEPTHLESS_WIDTH {
+    // An occluder running off the right border shows only part of its width.
+    let at_border = end == n;
+    if h.start == 0 || end - start < MIN_DEPTHLESS_WIDTH {
         return None;
     }
-    if !(background(h.start - 1) && background(h.end) && background(start - 1) && background(end)) {
+    if !(background(h.start - 1)
+        && background(h.end)
+        && background(start - 1)
+        && (at_border || background(end)))
+    {
         return None;
     }
     // Widening only ever adds to the shadow (up to `over`); one pixel of sampling either way.
+    // At the border the occluder may be wider than what shows, so its shadow too; but a real
+    // sensor's dead band there (8 px or more in every row) would pair with any hole within reach,
+    // so the lit gap must be no wider than the shadow (an occluder at least half as wide as its
+    // shift, as a rod close to the wall).
     let (shadow_w, occluder_w) = ((h.end - h.start) as f32, (end - start) as f32);
-    if shadow_w < occluder_w - 1.0 || shadow_w > occluder_w + p.over {
+    if shadow_w < occluder_w - 1.0
+        || (!at_border && shadow_w > occluder_w + p.over)
+        || (at_border && (start - h.end) as f32 > shadow_w)
+    {
         return None;
     }
-    // The shadow's right edge is the occluder's, shifted (plus up to 2 px of widening); the
-    // implied occluder must lie within the sensor's range.
-    let shift = (end - h.end) as f32;
+    // The shadow's right edge is the occluder's, shifted (plus up to 2 px of widening); at the
+    // border the left edges give it (plus the widening of the shadow's left end). The implied
+    // occluder must lie within the sensor's range.
+    let shift = if at_border {
+        (start - h.start) as f32
+    } else {
+        (end - h.end) as f32
+    };
     (d_bg + shift <= p.max_disp).then_some((shift, Run { start, end }))
 }
 
@@ -1307,6 +1325,35 @@ mod tests {
         assert!((z - 1.0).abs() < 0.03, "rod placed at {z:.3} m");
         // The lit wall and the shadow stay at the wall's depth.
         assert_eq!(filled[275], raw_at(&c, 3.0));
+    }
+
+    #[test]
+    fn depthless_rod_running_off_the_right_border_still_gets_its_detached_shadow() {
+        // A 15 px black rod at 1 m before a wall at 3 m stands at [630, 645): only 10 px of it
+        // show. Its shadow is all of it shifted left by w = 29.1 px, plus 1 px of widening:
+        // [600, 616), with the lit wall [616, 630) between.
+        let (c, _) = params();
+        let row = wall_with_holes(&c, &[(600, 616), (630, WIDTH)]);
+        let (labels, filled) = run_with_neighbours(&row, &row, &row);
+        assert!(
+            labels[600..616].iter().all(|&l| l == DETACHED),
+            "{:?}",
+            &labels[595..WIDTH]
+        );
+        assert!(labels[630..].iter().all(|&l| l == OTHER), "the rod itself");
+        // The shift comes from the left edges (30 px, the widening included): about 1 m.
+        let z = c.depth_m(filled[635]).unwrap();
+        assert!((z - 1.0).abs() < 0.05, "rod placed at {z:.3} m");
+        // A visible part wider than the shadow is no occluder of it.
+        let row = wall_with_holes(&c, &[(600, 608), (620, WIDTH)]);
+        let (labels, _) = run_with_neighbours(&row, &row, &row);
+        assert!(labels[600..608].iter().all(|&l| l == OTHER));
+        // A real sensor's dead band (8 px at the border in every row, as on the NYU frame) with
+        // an 8 px dropout 64 px left of it: a rod would have to be 0.5 m away and 8 px wide for
+        // that; the lit gap is far wider than the shadow, so no pair.
+        let row = wall_with_holes(&c, &[(560, 568), (632, WIDTH)]);
+        let (labels, _) = run_with_neighbours(&row, &row, &row);
+        assert!(labels[560..568].iter().all(|&l| l == OTHER));
     }
 
     #[test]
