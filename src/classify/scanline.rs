@@ -510,6 +510,15 @@ fn set(labels: &mut [u8], raw: &[u16], from: usize, to: usize, code: u8) {
     }
 }
 
+/// Sets the hole pixels of `h` to `value`, whatever they were filled with before.
+fn place(filled: &mut [u16], raw: &[u16], h: Run, value: u16) {
+    for (f, &r) in filled[h.start..h.end].iter_mut().zip(&raw[h.start..h.end]) {
+        if r == NO_DEPTH {
+            *f = value;
+        }
+    }
+}
+
 fn fill(filled: &mut [u16], h: Run, value: u16) {
     for f in &mut filled[h.start..h.end] {
         if *f == NO_DEPTH {
@@ -561,7 +570,9 @@ fn classify_bounded(
                 match verdict.unwrap_or(Detached::No) {
                     Detached::Depthless { occluder, raw: at } => {
                         set(labels, raw, shadow.start, shadow.end, DETACHED);
-                        fill(filled, occluder, at);
+                        // The merged hole was filled with the background's depth above; the
+                        // occluder's part of it is nearer.
+                        place(filled, raw, occluder, at);
                         return;
                     }
                     _ => Detached::No,
@@ -1354,6 +1365,21 @@ mod tests {
         let row = wall_with_holes(&c, &[(560, 568), (632, WIDTH)]);
         let (labels, _) = run_with_neighbours(&row, &row, &row);
         assert!(labels[560..568].iter().all(|&l| l == OTHER));
+    }
+
+    #[test]
+    fn depthless_rod_behind_a_swallowed_lit_gap_is_placed_at_its_depth() {
+        // A black rod 8 px wide whose shift is w = 10 px leaves a 2 px lit gap, [279, 281),
+        // between its shadow [270, 279) and itself [281, 289): the hole merges the gap as noise.
+        // Split at the island, the shadow is detached, and the rod is warped at the depth of a
+        // 10 px shift, 1/(1/3 + 10/(f·b)) = 1.78 m, not at the wall's 3 m.
+        let (c, _) = params();
+        let row = wall_with_holes(&c, &[(270, 279), (281, 289)]);
+        let (labels, filled) = run_with_neighbours(&row, &row, &row);
+        assert!(labels[270..279].iter().all(|&l| l == DETACHED));
+        let z = c.depth_m(filled[285]).unwrap();
+        assert!((z - 1.78).abs() < 0.05, "rod placed at {z:.3} m");
+        assert_eq!(filled[279], row[279], "the lit gap keeps its depth");
     }
 
     #[test]
