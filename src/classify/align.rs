@@ -59,7 +59,20 @@ pub struct Warp {
     parity: Vec<u32>,
     /// 0.0, 1.0, … 639.0: column numbers as floats (usize → f32 does not vectorise).
     columns: Vec<f32>,
+    /// Per pixel of the current source row, where its target pixel's centre lies against its
+    /// footprint: [`LEFT_OF_FOOTPRINT`], [`RIGHT_OF_FOOTPRINT`] or 0 (inside).
+    outside: Vec<u8>,
+    /// Per column of the current source row: 1 where the next pixel is a jump farther, 2 a jump
+    /// nearer (the last column, which has no next, stays 0).
+    edge_flags: Vec<u8>,
+    /// The current source row's depth edges, from [`Warp::find_edges`] (capacity reserved once).
+    edge_list: Vec<(usize, bool)>,
 }
+
+/// The target pixel's centre lies left of the source pixel's footprint (it was rounded down).
+const LEFT_OF_FOOTPRINT: u8 = 1;
+/// The target pixel's centre lies right of the source pixel's footprint (it was rounded up).
+const RIGHT_OF_FOOTPRINT: u8 = 2;
 
 impl Warp {
     /// Precomputes the warp of `calib`'s depth camera into its RGB camera.
@@ -91,6 +104,9 @@ impl Warp {
             target: vec![OUTSIDE; WIDTH],
             keys: vec![EMPTY; WIDTH],
             columns: (0..WIDTH).map(|u| u as f32).collect(),
+            outside: vec![0; WIDTH],
+            edge_flags: vec![0; WIDTH],
+            edge_list: Vec::with_capacity(WIDTH),
             parity: (0..WIDTH).map(|u| ((u & 1) as u32) << LABEL_BITS).collect(),
         }
     }
@@ -212,11 +228,16 @@ impl Warp {
         let (cx, cy) = (self.rgb_c[0], self.rgb_c[1]);
         let (w, h) = (WIDTH as f32 - 0.5, HEIGHT as f32 - 0.5);
         let (iz_scale, iz_offset) = (self.iz_scale, self.iz_offset);
-        let out = self.target.iter_mut().zip(self.keys.iter_mut());
+        let half = self.half_px;
+        let out = self
+            .target
+            .iter_mut()
+            .zip(self.keys.iter_mut())
+            .zip(self.outside.iter_mut());
         // Bit LABEL_BITS holds the parity of u + v: the columns' parities, flipped on odd rows.
         let flip = ((v & 1) as u32) << LABEL_BITS;
         let inputs = filled.iter().zip(&self.columns).zip(ir).zip(&self.parity);
-        for ((t_out, k_out), (((&raw, &uf), &label), &parity)) in out.zip(inputs) {
+        for (((t_out, k_out), o_out), (((&raw, &uf), &label), &parity)) in out.zip(inputs) {
             let rawf = f32::from(raw);
             let iz = rawf * iz_scale + iz_offset;
             let nz = bz + uf * sz + tz * iz;
@@ -229,8 +250,12 @@ impl Warp {
             // `&`, not `&&`: no short-circuit branches in the vector loop.
             let inside = valid & (x > -0.5) & (x < w) & (y > -0.5) & (y < h);
             // Lanes that are not `inside` may hold garbage here; the select below drops them.
-            let index = round_f32(y) * WIDTH as f32 + round_f32(x);
+            let xr = round_f32(x);
+            let index = round_f32(y) * WIDTH as f32 + xr;
             *t_out = if inside { round_bits(index) } else { OUTSIDE };
+            let off = x - xr;
+            *o_out = u8::from(off > half) * LEFT_OF_FOOTPRINT
+                + u8::from(off < -half) * RIGHT_OF_FOOTPRINT;
             let z = round_bits(clamp_fast(1000.0 * nz * nz * r, 1.0, 65000.0));
             let key = (z << (LABEL_BITS + TIE_BITS)) | (parity ^ flip) | u32::from(label);
             *k_out = if valid { key } else { EMPTY };
@@ -239,6 +264,26 @@ impl Warp {
 
     #[inline(always)]
     fn splat_row(&mut self, v: usize, filled: &[u16], ir: &[u8], colour: Option<&[u8]>) {
+        self.find_edges(filled);
+        // Each pixel lands on the target pixel nearest its centre, but its footprint is a little
+        // narrower than a target pixel: at a depth edge that nearest pixel's centre may lie
+        // outside it, on the side where the RGB camera sees the farther surface (or the
+        // alignment gap) past the edge. There the nearer pixel lands one target over, so the
+        // label boundary falls where the pixel centres do.
+        let mut edges = std::mem::take(&mut self.edge_list);
+        for &(u, rising) in &edges {
+            let near = if rising { u } else { u + 1 };
+            let t = self.target[near];
+            if t == OUTSIDE {
+                continue;
+            }
+            let col = t as usize % WIDTH;
+            match self.outside[near] {
+                RIGHT_OF_FOOTPRINT if rising && col > 0 => self.target[near] = t - 1,
+                LEFT_OF_FOOTPRINT if !rising && col + 1 < WIDTH => self.target[near] = t + 1,
+                _ => {}
+            }
+        }
         // Off-image pixels land in the spare slot past the image: no branch per pixel.
         for (&t, &k) in self.target.iter().zip(&self.keys) {
             // `t <= OUTSIDE` always; the `min` is a cmov that spares a bounds-check branch.
@@ -246,26 +291,38 @@ impl Warp {
             *slot = (*slot).min(k);
         }
         // A nearer pixel followed by a farther one splits apart: the RGB camera, right of the IR
-        // camera, sees background there that the IR camera cannot. Disparity is linear in raw,
-        // so the test runs on raw values; edges are rare, so 16-pixel blocks are tested
-        // branch-free first.
+        // camera, sees background there that the IR camera cannot.
+        for &(u, rising) in &edges {
+            // Background the RGB camera sees there is a hole anyway when the surface beyond the
+            // edge is one (beyond range, black): that is OTHER, which empty pixels become.
+            if rising && self.keys[u + 1] != EMPTY && ir[u + 1] != OTHER {
+                self.mark_gap(v, u, filled, colour);
+            }
+        }
+        edges.clear();
+        self.edge_list = edges;
+    }
+
+    /// Lists the depth edges of a source row in `edge_list`: `(u, rising)` where pixels `u` and
+    /// `u + 1` differ by a jump, rising when `u + 1` is the farther. Disparity is linear in raw,
+    /// so the test runs on raw values, branch-free into a byte per column (vectorised); edges
+    /// are rare, so the bytes are then read eight at a time.
+    #[inline(always)]
+    fn find_edges(&mut self, filled: &[u16]) {
         let jump = self.jump_raw;
-        for block in (0..WIDTH - 1).step_by(16) {
-            let end = (block + 16).min(WIDTH - 1);
-            let r = &filled[block..=end];
-            if !r.iter().zip(&r[1..]).fold(false, |any, (&a, &b)| {
-                any | (i32::from(b) - i32::from(a) >= jump)
-            }) {
+        let flags = &mut self.edge_flags;
+        for ((f, &a), &b) in flags.iter_mut().zip(filled).zip(&filled[1..]) {
+            let step = i32::from(b) - i32::from(a);
+            *f = u8::from(step >= jump) | (u8::from(step <= -jump) << 1);
+        }
+        for (chunk, bytes) in flags.chunks_exact(8).enumerate() {
+            let word = u64::from_le_bytes(bytes.try_into().expect("8 bytes"));
+            if word == 0 {
                 continue;
             }
-            for u in block..end {
-                // Background the RGB camera sees there is a hole anyway when the surface beyond the
-                // edge is one (beyond range, black): that is OTHER, which empty pixels become.
-                if i32::from(filled[u + 1]) - i32::from(filled[u]) >= jump
-                    && self.keys[u + 1] != EMPTY
-                    && ir[u + 1] != OTHER
-                {
-                    self.mark_gap(v, u, filled, colour);
+            for (k, &f) in bytes.iter().enumerate() {
+                if f != 0 {
+                    self.edge_list.push((chunk * 8 + k, f == 1));
                 }
             }
         }
@@ -563,6 +620,56 @@ mod tests {
         assert_eq!(out.rgb_labels[250 * WIDTH + 39], OTHER);
         assert_eq!(out.rgb_labels[250 * WIDTH + 611], OTHER);
         assert_eq!(histogram(&out.rgb_labels)[ALIGNMENT as usize], 0);
+    }
+
+    /// RGB position (x, y) of the point at IR column `u` (continuous), row `v`, raw value `raw`:
+    /// pinhole back-projection, the extrinsics, pinhole projection (independent of the warp).
+    fn rgb_xy(c: &Calibration, u: f64, v: f64, raw: u16) -> (f64, f64) {
+        let z = c.depth_m(raw).unwrap();
+        let d = &c.depth;
+        let p = nalgebra::Vector3::new((u - d.cx) / d.fx * z, (v - d.cy) / d.fy * z, z);
+        let q = c.depth_to_rgb.rotation * p + c.depth_to_rgb.translation;
+        (
+            c.rgb.fx * q.x / q.z + c.rgb.cx,
+            c.rgb.fy * q.y / q.z + c.rgb.cy,
+        )
+    }
+
+    #[test]
+    fn label_boundaries_at_depth_edges_fall_where_the_pixel_centres_do() {
+        // A box before a wall at 3 m, at 41 depths from 0.9 to 1.7 m, so its edges land at every
+        // sub-pixel position in the RGB image. The RGB camera sees, at a pixel, whatever its
+        // centre's ray meets: a pixel whose centre lies left of the box's left edge shows the
+        // wall, one right of its right edge the alignment gap.
+        let c = Calibration::nyu_default();
+        let mut classifier = Classifier::new(&c);
+        let mut out = Classified::default();
+        let wall = raw_at(&c, 3.0);
+        let mut wrong = Vec::new();
+        for k in 0..41 {
+            let z = 0.9 + 0.02 * k as f64;
+            let near = raw_at(&c, z);
+            let mut raw = vec![wall; PIXELS];
+            for v in 150..350 {
+                raw[v * WIDTH + 250..v * WIDTH + 400].fill(near);
+            }
+            classifier.classify(&raw, &mut out);
+            let (left, y) = rgb_xy(&c, 249.5, 250.0, near);
+            let (right, _) = rgb_xy(&c, 399.5, 250.0, near);
+            let row = y.round() as usize * WIDTH;
+            let (l, r) = (left.ceil() as usize, right.floor() as usize);
+            let box_mm = (z * 1000.0) as u16;
+            let near_box = |i: usize| out.registered_mm[row + i].abs_diff(box_mm) < 40;
+            // Left edge: pixel l − 1 (centre left of it) is wall, pixel l box.
+            if near_box(l - 1) || !near_box(l) {
+                wrong.push(format!("z {z:.2}: left edge at {left:.2}"));
+            }
+            // Right edge: pixel r (centre left of it) is box, pixel r + 1 the alignment gap.
+            if !near_box(r) || out.rgb_labels[row + r + 1] != ALIGNMENT {
+                wrong.push(format!("z {z:.2}: right edge at {right:.2}"));
+            }
+        }
+        assert!(wrong.is_empty(), "{wrong:?}");
     }
 
     #[test]
