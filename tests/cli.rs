@@ -158,7 +158,10 @@ fn synth_simulates_another_kinects_calibration_and_the_classifier_follows_it() {
     ]);
     // The recording carries that calibration.
     let wanted = umbra::calib::Calibration::load(&calib_path).unwrap();
-    assert_eq!(Recording::open(Path::new(&rec)).unwrap().calibration(), &wanted);
+    assert_eq!(
+        Recording::open(Path::new(&rec)).unwrap().calibration(),
+        &wanted
+    );
 
     // The simulator uses it. By hand: the box's front face (1 m) starts at X = −0.2 m, so at
     // u = cx + fx·X/Z = 319.5 − 575.8157·0.2 = 204.3 (NYU's: 196.5), and its attached shadow on
@@ -169,7 +172,10 @@ fn synth_simulates_another_kinects_calibration_and_the_classifier_follows_it() {
     let start = row.iter().position(|&l| l == ATTACHED).unwrap() as f64;
     let end = row.iter().rposition(|&l| l == ATTACHED).unwrap() as f64 + 1.0;
     assert!((end - 204.3).abs() <= 1.0, "attached run [{start}, {end})");
-    assert!((end - start - 28.79).abs() <= 1.0, "attached run [{start}, {end})");
+    assert!(
+        (end - start - 28.79).abs() <= 1.0,
+        "attached run [{start}, {end})"
+    );
 
     // And the classifier, reading it from the recording, still finds that shadow.
     let out = umbra(&["eval", &rec, "--gt", &gt, "--json"]);
