@@ -283,15 +283,6 @@ impl Warp {
                 LEFT_OF_FOOTPRINT if !rising && col + 1 < WIDTH => self.target[near] = t + 1,
                 _ => {}
             }
-            // The farther pixel past a nearer one starts the gap's far end alike.
-            let t = self.target[u + 1];
-            if rising
-                && t != OUTSIDE
-                && self.outside[u + 1] == LEFT_OF_FOOTPRINT
-                && (t as usize % WIDTH) + 1 < WIDTH
-            {
-                self.target[u + 1] = t + 1;
-            }
         }
         // Off-image pixels land in the spare slot past the image: no branch per pixel.
         for (&t, &k) in self.target.iter().zip(&self.keys) {
@@ -646,20 +637,18 @@ mod tests {
 
     #[test]
     fn label_boundaries_at_depth_edges_fall_where_the_pixel_centres_do() {
-        // A box before a wall, at 41 depths from 0.9 to 1.7 m (the wall from 3.0 to 3.8 m), so
-        // their edges land at every sub-pixel position in the RGB image. The RGB camera sees, at a pixel, whatever its
+        // A box before a wall at 3 m, at 41 depths from 0.9 to 1.7 m, so its edges land at every
+        // sub-pixel position in the RGB image. The RGB camera sees, at a pixel, whatever its
         // centre's ray meets: a pixel whose centre lies left of the box's left edge shows the
         // wall, one right of its right edge the alignment gap.
         let c = Calibration::nyu_default();
         let mut classifier = Classifier::new(&c);
         let mut out = Classified::default();
+        let wall = raw_at(&c, 3.0);
         let mut wrong = Vec::new();
         for k in 0..41 {
             let z = 0.9 + 0.02 * k as f64;
             let near = raw_at(&c, z);
-            // The wall moves too (3.0 to 3.8 m), so its edge sweeps a pixel as well.
-            let wall = raw_at(&c, 3.0 + 0.02 * k as f64);
-            let wall_z = c.depth_m(wall).unwrap();
             let mut raw = vec![wall; PIXELS];
             for v in 150..350 {
                 raw[v * WIDTH + 250..v * WIDTH + 400].fill(near);
@@ -678,15 +667,6 @@ mod tests {
             // Right edge: pixel r (centre left of it) is box, pixel r + 1 the alignment gap.
             if !near_box(r) || out.rgb_labels[row + r + 1] != ALIGNMENT {
                 wrong.push(format!("z {z:.2}: right edge at {right:.2}"));
-            }
-            // The gap ends where the wall right of the box starts: the wall's first pixel's
-            // left edge, at the wall's depth.
-            let (wall_left, _) = rgb_xy(&c, 399.5, 250.0, wall);
-            let w = wall_left.ceil() as usize;
-            let wall_mm =
-                |i: usize| out.registered_mm[row + i].abs_diff((wall_z * 1000.0) as u16) < 80;
-            if out.rgb_labels[row + w - 1] != ALIGNMENT || !wall_mm(w) {
-                wrong.push(format!("z {z:.2}: gap's end at {wall_left:.2}"));
             }
         }
         assert!(wrong.is_empty(), "{wrong:?}");
