@@ -1346,25 +1346,21 @@ mod tests {
         let (c, _) = params();
         let row = wall_with_holes(&c, &[(600, 616), (630, WIDTH)]);
         let (labels, filled) = run_with_neighbours(&row, &row, &row);
-        assert!(
-            labels[600..616].iter().all(|&l| l == DETACHED),
-            "{:?}",
-            &labels[595..WIDTH]
-        );
-        assert!(labels[630..].iter().all(|&l| l == OTHER), "the rod itself");
-        // The shift comes from the left edges (30 px, the widening included): about 1 m.
+        assert_run(&labels, 600..616, DETACHED);
+        assert_run(&labels, 630..WIDTH, OTHER); // the rod itself
+                                                // The shift comes from the left edges (30 px, the widening included): about 1 m.
         let z = c.depth_m(filled[635]).unwrap();
         assert!((z - 1.0).abs() < 0.05, "rod placed at {z:.3} m");
         // A visible part wider than the shadow is no occluder of it.
         let row = wall_with_holes(&c, &[(600, 608), (620, WIDTH)]);
         let (labels, _) = run_with_neighbours(&row, &row, &row);
-        assert!(labels[600..608].iter().all(|&l| l == OTHER));
+        assert_run(&labels, 600..608, OTHER);
         // A real sensor's dead band (8 px at the border in every row, as on the NYU frame) with
         // an 8 px dropout 64 px left of it: a rod would have to be 0.5 m away and 8 px wide for
         // that; the lit gap is far wider than the shadow, so no pair.
         let row = wall_with_holes(&c, &[(560, 568), (632, WIDTH)]);
         let (labels, _) = run_with_neighbours(&row, &row, &row);
-        assert!(labels[560..568].iter().all(|&l| l == OTHER));
+        assert_run(&labels, 560..568, OTHER);
     }
 
     #[test]
@@ -1376,7 +1372,7 @@ mod tests {
         let (c, _) = params();
         let row = wall_with_holes(&c, &[(270, 279), (281, 289)]);
         let (labels, filled) = run_with_neighbours(&row, &row, &row);
-        assert!(labels[270..279].iter().all(|&l| l == DETACHED));
+        assert_run(&labels, 270..279, DETACHED);
         let z = c.depth_m(filled[285]).unwrap();
         assert!((z - 1.78).abs() < 0.05, "rod placed at {z:.3} m");
         assert_eq!(filled[279], row[279], "the lit gap keeps its depth");
@@ -1458,6 +1454,16 @@ mod tests {
         );
     }
 
+    /// Asserts that `labels[at]` are all `code`, showing a few pixels around them if not.
+    fn assert_run(labels: &[u8], at: std::ops::Range<usize>, code: u8) {
+        let around = at.start.saturating_sub(5)..(at.end + 5).min(labels.len());
+        assert!(
+            labels[at.clone()].iter().all(|&l| l == code),
+            "{at:?} not all {code}: {:?} at {around:?}",
+            &labels[around.clone()]
+        );
+    }
+
     fn run(row: &[u16]) -> Vec<u8> {
         let (labels, filled) = run_with_neighbours(&[], row, &[]);
         assert!(
@@ -1526,20 +1532,10 @@ mod tests {
         let mut row = vec![raw_at(&c, 3.0); WIDTH];
         row[300..327].fill(raw_at(&c, 1.0));
         row[269..300].fill(NO_DEPTH);
-        let labels = run(&row);
-        assert!(
-            labels[269..300].iter().all(|&l| l == DETACHED),
-            "{:?}",
-            &labels[265..330]
-        );
+        assert_run(&run(&row), 269..300, DETACHED);
         // A 40 px box (wider than w) with the same hole: attached.
         row[300..340].fill(raw_at(&c, 1.0));
-        let labels = run(&row);
-        assert!(
-            labels[269..300].iter().all(|&l| l == ATTACHED),
-            "{:?}",
-            &labels[265..345]
-        );
+        assert_run(&run(&row), 269..300, ATTACHED);
     }
 
     #[test]
@@ -1554,12 +1550,8 @@ mod tests {
         row[271..277].fill(NO_DEPTH);
         row[295..300].fill(NO_DEPTH);
         let labels = run(&row);
-        assert!(
-            labels[295..300].iter().all(|&l| l == OTHER),
-            "{:?}",
-            &labels[290..306]
-        );
-        assert!(labels[271..277].iter().all(|&l| l == DETACHED));
+        assert_run(&labels, 295..300, OTHER);
+        assert_run(&labels, 271..277, DETACHED);
     }
 
     #[test]
@@ -1913,23 +1905,12 @@ mod tests {
 
     #[test]
     fn flying_pixel_joins_the_nearer_side_for_the_warp_only() {
-        let (_, p) = params();
         // Foreground 800, one mixed pixel at 830, background 900: 830 is nearer to 800.
         let mut row = vec![900u16; WIDTH];
         row[100..200].fill(800);
         row[200] = 830;
         row[300] = 880; // a gentle slope step elsewhere is no flying pixel
-        let (mut labels, mut filled) = (vec![0; WIDTH], vec![0; WIDTH]);
-        classify_row(
-            &p,
-            &row,
-            &[NO_DEPTH; WIDTH],
-            &[],
-            &[],
-            Range::at(900),
-            &mut labels,
-            &mut filled,
-        );
+        let (labels, filled) = run_with_neighbours(&[], &row, &[]);
         assert_eq!(filled[200], 800);
         assert_eq!(labels[200], VALID, "the measured pixel keeps its label");
         assert_eq!(filled[300], 880);
@@ -1938,7 +1919,6 @@ mod tests {
 
     #[test]
     fn a_steeply_receding_face_is_no_row_of_flying_pixels() {
-        let (_, p) = params();
         // A box face receding at 8 raw units (about a pixel of disparity) per pixel, from a
         // front face at 700 to a wall at 900: each of its pixels lies between its neighbours a
         // full edge step apart, yet it is a surface, and the warp must see it unbroken.
@@ -1947,17 +1927,7 @@ mod tests {
         for (k, r) in row[200..225].iter_mut().enumerate() {
             *r = 700 + 8 * k as u16;
         }
-        let (mut labels, mut filled) = (vec![0; WIDTH], vec![0; WIDTH]);
-        classify_row(
-            &p,
-            &row,
-            &[NO_DEPTH; WIDTH],
-            &[],
-            &[],
-            Range::at(900),
-            &mut labels,
-            &mut filled,
-        );
+        let (labels, filled) = run_with_neighbours(&[], &row, &[]);
         assert_eq!(&filled[195..230], &row[195..230]);
     }
 
