@@ -9,7 +9,9 @@
 //! the right). The split is the `s` whose layout matches the colours; it must clearly beat "no
 //! shadow at all" (a black poster), the rows above and below must hold such a hole too, and one
 //! of them must split it alike, because an occluder is a solid (one, not both: towards a round
-//! occluder's poles its edge moves several pixels per row). Variants of the same reading:
+//! occluder's poles its edge moves several pixels per row); or, along a straight slanted edge,
+//! both split it with the same shadow width and their edges average to this row's. Variants of
+//! the same reading:
 //!
 //! - an *open* hole (running into the image border, another hole, a farther surface) is read from
 //!   its left: background, then at least as much occluder as the shadow is wide;
@@ -389,11 +391,31 @@ impl ColourSplit {
         };
         let (above, below) = (neighbour(v - 1)?, neighbour(v + 1)?);
         let s = self.split_memo(rgb, v, c, prefix)?;
-        let mut agrees = |w: usize, n: Candidate| {
+        // Where each row's split puts the occluder's edge, and how wide its shadow is.
+        let edge = c.a + s.0;
+        let mut split_in = |w: usize, n: Candidate| {
             self.split_memo(rgb, w, n, prefix)
-                .is_some_and(|(t, _)| (n.a + t).abs_diff(c.a + s.0) <= ROWS_AGREE)
+                .map(|(t, _)| (n.a + t, t))
         };
-        (agrees(v - 1, above) || agrees(v + 1, below)).then_some(s)
+        let up = split_in(v - 1, above);
+        if up.is_some_and(|(e, _)| e.abs_diff(edge) <= ROWS_AGREE) {
+            return Some(s);
+        }
+        let down = split_in(v + 1, below);
+        let alike = down.is_some_and(|(e, _)| e.abs_diff(edge) <= ROWS_AGREE);
+        // Or a straight slanted edge through all three rows, moving up to several pixels a row:
+        // the neighbours' edges average to this one, and the hole's start moves with the edge,
+        // so the shadow keeps its width (a colour edge slanting across a hole that starts in
+        // one column would narrow the shadow row by row).
+        let straight = match (up, down) {
+            (Some((eu, su)), Some((ed, sd))) => {
+                (eu + ed).abs_diff(2 * edge) <= ROWS_AGREE
+                    && su.abs_diff(s.0) <= ROWS_AGREE
+                    && sd.abs_diff(s.0) <= ROWS_AGREE
+            }
+            _ => false,
+        };
+        (alike || straight).then_some(s)
     }
 
     /// The shift of an occluder filling the hole `[a, b)` of row `v` up to the background on its
