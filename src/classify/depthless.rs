@@ -385,7 +385,15 @@ impl ColourSplit {
             // A lit island inside the neighbour's hole may sit right on `mid`.
             let at = [mid, mid - 1, mid + 1, mid - 2, mid + 2]
                 .into_iter()
-                .find(|&m| row[m] == NO_DEPTH)?;
+                .find(|&m| row[m] == NO_DEPTH)
+                .or_else(|| {
+                    // An open hole's start moves with a slanted edge, up to several pixels a
+                    // row: the neighbour's hole may begin past `mid`.
+                    let to = (mid + MIN_HOLE).min(WIDTH);
+                    (!c.closed)
+                        .then(|| (mid + 3..to).find(|&m| row[m] == NO_DEPTH))
+                        .flatten()
+                })?;
             let (a, b) = hole_span(row, at);
             self.candidate(raw, labels, w, (a, b), w < v, c.behind)
         };
