@@ -1927,7 +1927,7 @@ mod tests {
         for (k, r) in row[200..225].iter_mut().enumerate() {
             *r = 700 + 8 * k as u16;
         }
-        let (labels, filled) = run_with_neighbours(&[], &row, &[]);
+        let (_, filled) = run_with_neighbours(&[], &row, &[]);
         assert_eq!(&filled[195..230], &row[195..230]);
     }
 
