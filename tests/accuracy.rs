@@ -114,6 +114,47 @@ fn thin_rod_casts_detached_shadow_at_hand_computed_place() {
 }
 
 #[test]
+fn detached_shadow_whose_left_end_hides_behind_a_nearer_rod() {
+    // The 2 cm rod of the test above, moved to x = 0.1 m: its detached shadow spans columns
+    // cx + fx·(0.1 ± 0.01) − 29.1 = 336.4..348.1. A 1 cm rod at 1.5 m stands in its left end: its
+    // columns are cx + fx·(0.0644 ± 0.005)/1.5 = 336.1..340.0, so the hole right of it is the
+    // shadow's visible rest, from 340 to 348.1, with the thin rod, not the wall, on its left.
+    // Eq. (4) must measure from the wall's disparity, which Sb shows, and let the shadow run on
+    // behind the thin rod.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::rod_before_wall(0.1, 1.0, 0.01, 3.0);
+    scene.push(
+        "rod",
+        umbra::synth::Shape::Cylinder {
+            centre: umbra::synth::V3::new(0.0644, 0.0, 1.5),
+            axis: umbra::synth::V3::new(0.0, 1.0, 0.0),
+            radius: 0.005,
+            half_len: 3.0,
+        },
+        umbra::synth::Material::matte([0.3, 0.5, 0.3]),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 3);
+    let out = classify(&calib, &frame);
+    let shadow_right = calib.depth.cx + 0.11 * calib.depth.fx - calib.fb() * (1.0 - 1.0 / 3.0);
+    let mut rows = 0;
+    for v in (20..HEIGHT - 20).step_by(5) {
+        let truth = &frame.ir_labels[v * WIDTH..(v + 1) * WIDTH];
+        let row = &out.ir_labels[v * WIDTH..(v + 1) * WIDTH];
+        // The visible rest of the shadow: the detached run right of the thin rod.
+        let rest: Vec<usize> = (341..360).filter(|&u| truth[u] == DETACHED).collect();
+        assert!(
+            rest.len() >= 5,
+            "row {v}: the scene has the shadow's rest ({rest:?})"
+        );
+        let got: Vec<usize> = (341..360).filter(|&u| row[u] == DETACHED).collect();
+        assert_eq!(got, rest, "row {v}: detached right of the thin rod");
+        assert!((*got.last().unwrap() as f64 - shadow_right).abs() <= 1.5);
+        rows += 1;
+    }
+    assert!(rows > 50);
+}
+
+#[test]
 fn black_rod_without_depth_still_casts_a_detached_shadow() {
     // The same rod geometry, but black: the sensor measures nothing on it, so its hole and its
     // shadow are two holes on the wall. Hand geometry: the 3 cm rod at 1.2 m spans

@@ -963,9 +963,21 @@ fn detached(
     rows: [&[u16]; 2],
 ) -> Detached {
     let n = raw.len();
-    let d_sa = p.disp(sa.far);
     let d_sb = p.disp(sb.far);
     let d_bg = sa_sb_bg(p, sa, sb);
+    // A nearer surface at Sa (a thin object standing in the shadow) hides the shadow's left end:
+    // eq. (4) then measures from the background Sb shows, and the shadow may run on behind that
+    // surface, up to its width further left.
+    let (d_sa, hidden) = if p.disp(sa.far) > d_sb + p.min_step {
+        let nearer = raw[..h.start]
+            .iter()
+            .rev()
+            .take_while(|&&r| r != NO_DEPTH && p.disp(r) > d_sb + p.min_step)
+            .count();
+        (d_sb, nearer as f32)
+    } else {
+        (p.disp(sa.far), 0.0)
+    };
     let reach = (p.max_disp - d_bg).max(0.0) as usize + 2;
     let stop = (h.end + reach).min(n);
     // disp(r) > d_bg + min_step  ⇔  r < fg_below (disparity falls as raw grows); holes (2047)
@@ -1039,8 +1051,13 @@ fn detached(
             // Pixel sampling puts e4 at about +1 and e5 at about −1 for an ideal shadow. The
             // sensor's widening moves the hole's left end left (e4 grows) and its right end right
             // (e5 shrinks), never the other way: the tolerance is that much wider on that side.
-            if (-p.tol..=p.tol + WIDENING).contains(&(e4 - 1.0))
+            // A shadow cut by a nearer surface shows no more than the occluder's width (plus the
+            // widening of its right end): the tolerances of both equations must not add up.
+            let cut_fits =
+                hidden == 0.0 || (h.end - h.start) as f32 <= (fb + 1 - fa) as f32 + WIDENING + 1.0;
+            if (-p.tol - hidden..=p.tol + WIDENING).contains(&(e4 - 1.0))
                 && (-p.tol - WIDENING..=p.tol).contains(&(e5 + 1.0))
+                && cut_fits
             {
                 return Detached::Measured;
             }
@@ -1312,6 +1329,25 @@ mod tests {
             row[a..b].fill(NO_DEPTH);
         }
         row
+    }
+
+    #[test]
+    fn hole_behind_a_nearer_object_wider_than_the_occluders_shadow_is_not_detached() {
+        // Disparities (raw = 1092.5 − d / 0.1244): wall 10 px, an object at 28 px, then a 9 px
+        // hole, 8 px of wall and a 4 px rod at 25 px. Measured from the wall, both equations fit
+        // within their tolerances, but the rod's shadow is 4 px wide: cut by the object on its
+        // left it could only show less, and a 9 px hole is something else.
+        let raw = |d: f64| (1092.5 - d / 0.1244_f64).round() as u16;
+        let mut row = vec![raw(10.0); WIDTH];
+        row[50..59].fill(raw(28.0));
+        row[59..68].fill(NO_DEPTH);
+        row[76..80].fill(raw(25.0));
+        let labels = run(&row);
+        assert!(
+            labels[59..68].iter().all(|&l| l != DETACHED),
+            "{:?}",
+            &labels[59..68]
+        );
     }
 
     #[test]
