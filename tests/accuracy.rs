@@ -155,6 +155,38 @@ fn detached_shadow_whose_left_end_hides_behind_a_nearer_rod() {
 }
 
 #[test]
+fn detached_shadow_running_off_the_left_border() {
+    // The 2 cm rod of the test above at x = −0.4857 m: columns cx + fx·(−0.4857 ± 0.01) =
+    // 24.2..35.8, its detached shadow 29.1 px further left, −4.9..6.7. Only its right part shows,
+    // from the border to 6.7, with the wall (Sb) right of it and no Sa at all.
+    let calib = Calibration::nyu_default();
+    let frame = render_frame(
+        &Scene::rod_before_wall(-0.4857, 1.0, 0.01, 3.0),
+        &calib,
+        &SensorModel::ideal(),
+        4,
+    );
+    let out = classify(&calib, &frame);
+    let w = calib.fb() * (1.0 - 1.0 / 3.0);
+    let shadow_right = calib.depth.cx + calib.depth.fx * (-0.4857 + 0.01) - w;
+    for v in (20..HEIGHT - 20).step_by(7) {
+        let truth = &frame.ir_labels[v * WIDTH..v * WIDTH + 20];
+        let row = &out.ir_labels[v * WIDTH..v * WIDTH + 20];
+        let cols: Vec<usize> = (0..20).filter(|&u| truth[u] == DETACHED).collect();
+        assert!(
+            cols.len() >= 5 && cols[0] == 0,
+            "row {v}: the scene {cols:?}"
+        );
+        assert_eq!(
+            (0..20).filter(|&u| row[u] == DETACHED).collect::<Vec<_>>(),
+            cols,
+            "row {v}: detached at the border"
+        );
+        assert!((*cols.last().unwrap() as f64 - shadow_right).abs() <= 1.5);
+    }
+}
+
+#[test]
 fn black_rod_without_depth_still_casts_a_detached_shadow() {
     // The same rod geometry, but black: the sensor measures nothing on it, so its hole and its
     // shadow are two holes on the wall. Hand geometry: the 3 cm rod at 1.2 m spans

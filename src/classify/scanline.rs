@@ -334,7 +334,10 @@ fn classify_row_with(
                 };
                 classify_bounded(p, raw, *h, sa, sb, context, labels, filled)
             }
-            (None, Some(sb)) => classify_left_border(p, raw, *h, sb, above, below, labels, filled),
+            (None, Some(sb)) => {
+                let rows = Rows { up, down: below };
+                classify_left_border(p, raw, *h, sb, above, rows, labels, filled)
+            }
             (Some(sa), None) => fill(filled, *h, sa.far),
             (None, None) => fill(filled, *h, p.fallback_raw),
         }
@@ -561,7 +564,7 @@ fn classify_bounded(
     }
     // A depthless occluder a pixel or two right of its shadow shares one hole with it (the lit
     // gap between them is an island the hole merged): the parts either side of the island.
-    let verdict = match detached(p, raw, h, sa, sb, near) {
+    let verdict = match detached(p, raw, h, Some(sa), sb, near) {
         Detached::No => match split_at_island(p, raw, h, sa, sb) {
             Some((shadow, rest)) => {
                 let d_bg = sa_sb_bg(p, sa, sb);
@@ -958,25 +961,28 @@ fn detached(
     p: &ScanParams,
     raw: &[u16],
     h: Run,
-    sa: Bound,
+    sa: Option<Bound>,
     sb: Bound,
     rows: [&[u16]; 2],
 ) -> Detached {
     let n = raw.len();
     let d_sb = p.disp(sb.far);
-    let d_bg = sa_sb_bg(p, sa, sb);
+    // A hole at the left border (no Sa) lies on the background Sb shows.
+    let d_bg = sa.map_or(d_sb, |sa| sa_sb_bg(p, sa, sb));
     // A nearer surface at Sa (a thin object standing in the shadow) hides the shadow's left end:
     // eq. (4) then measures from the background Sb shows, and the shadow may run on behind that
-    // surface, up to its width further left.
-    let (d_sa, hidden) = if p.disp(sa.far) > d_sb + p.min_step {
+    // surface, up to its width further left; past the image's left border, any way.
+    let (d_sa, hidden) = if let Some(sa) = sa.filter(|sa| p.disp(sa.far) <= d_sb + p.min_step) {
+        (p.disp(sa.far), 0.0)
+    } else if sa.is_none() {
+        (d_sb, f32::INFINITY)
+    } else {
         let nearer = raw[..h.start]
             .iter()
             .rev()
             .take_while(|&&r| r != NO_DEPTH && p.disp(r) > d_sb + p.min_step)
             .count();
         (d_sb, nearer as f32)
-    } else {
-        (p.disp(sa.far), 0.0)
     };
     let reach = (p.max_disp - d_bg).max(0.0) as usize + 2;
     let stop = (h.end + reach).min(n);
@@ -1205,7 +1211,9 @@ fn hole_around(row: &[u16], u: usize) -> Option<Run> {
 /// A hole touching the left border: Sa is outside the image, so the background the shadow falls
 /// on is estimated from what surrounds the hole: the surface just right of the occluder (the
 /// background usually continues behind it), and the nearest valid pixels above and below in the
-/// hole's columns. The farthest estimate wins: the shadow lies on the background.
+/// hole's columns. The farthest estimate wins: the shadow lies on the background. Where Sb is
+/// not nearer than that, the hole may be the right part of a detached shadow (eqs. 4–5 with the
+/// left end open).
 #[allow(clippy::too_many_arguments)]
 fn classify_left_border(
     p: &ScanParams,
@@ -1213,11 +1221,12 @@ fn classify_left_border(
     h: Run,
     sb: Bound,
     above: &[u16],
-    below: &[u16],
+    rows: Rows,
     labels: &mut [u8],
     filled: &mut [u16],
 ) {
     const LOOK_DOWN: usize = 120;
+    let below = rows.down;
     let from_above = farthest_above(above, h);
     let down = |col: usize| {
         below
@@ -1237,13 +1246,11 @@ fn classify_left_border(
         .into_iter()
         .flatten()
         .max();
-    let Some(bg) = bg else {
-        fill(filled, h, sb.far);
-        return;
-    };
-    fill(filled, h, bg.max(sb.far));
-    let w = p.disp(sb.near) - p.disp(bg);
-    if w >= p.min_step {
+    fill(filled, h, bg.map_or(sb.far, |bg| bg.max(sb.far)));
+    let attached_w = bg
+        .map(|bg| p.disp(sb.near) - p.disp(bg))
+        .filter(|&w| w >= p.min_step);
+    if let Some(w) = attached_w {
         label_attached(
             p,
             raw,
@@ -1255,6 +1262,10 @@ fn classify_left_border(
             },
             labels,
         );
+    } else if let Detached::Measured = detached(p, raw, h, None, sb, rows.near(raw.len())) {
+        // Sb is the background (nothing farther shows): a detached shadow whose left end lies
+        // past the border.
+        set(labels, raw, h.start, h.end, DETACHED);
     }
 }
 
