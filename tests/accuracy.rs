@@ -464,16 +464,9 @@ fn black_box_across_the_right_border_is_split_from_its_left_side() {
     );
 }
 
-#[test]
-fn black_pipe_slanting_five_pixels_a_row_still_has_its_shadow_split_off() {
-    // A black pipe (r = 1.5 cm, 60 cm long) at 1 m before a wall at 3 m, its axis 11° from
-    // horizontal: its edge moves 5 px a row, more than two rows' splits may differ when one
-    // neighbour has to agree; a straight edge through three rows is what the rows must show. By
-    // hand each row's shadow is f·b·(1/1 − 1/3) = 29.1 px wide. The RGB row nearest an IR row
-    // lies up to half a row off it, which along this edge is ±2.5 RGB columns: ±3 px of width.
-    // (Rows are still lost where the long hole's two sides differ in shading by more than the
-    // closed reading allows.)
-    let calib = Calibration::nyu_default();
+/// A black pipe (r = 1.5 cm, `2·half_len` long) centred at 1 m before a wall at 3 m, its axis
+/// rising `slope` per unit across: its edge moves 1/slope px a row.
+fn black_pipe_before_wall(slope: f64, half_len: f64) -> Scene {
     let mut scene = Scene::new("black pipe slanting before a wall");
     scene.push(
         "wall",
@@ -484,12 +477,26 @@ fn black_pipe_slanting_five_pixels_a_row_still_has_its_shadow_split_off() {
         "pipe",
         umbra::synth::Shape::Cylinder {
             centre: umbra::synth::V3::new(0.0, 0.0, 1.0),
-            axis: umbra::synth::V3::new(1.0, 0.2, 0.0).normalize(),
+            axis: umbra::synth::V3::new(1.0, slope, 0.0).normalize(),
             radius: 0.015,
-            half_len: 0.3,
+            half_len,
         },
         umbra::synth::Material::black(),
     );
+    scene
+}
+
+#[test]
+fn black_pipe_slanting_five_pixels_a_row_still_has_its_shadow_split_off() {
+    // A black pipe (r = 1.5 cm, 60 cm long) at 1 m before a wall at 3 m, its axis 11° from
+    // horizontal: its edge moves 5 px a row, more than two rows' splits may differ when one
+    // neighbour has to agree; a straight edge through three rows is what the rows must show. By
+    // hand each row's shadow is f·b·(1/1 − 1/3) = 29.1 px wide. The RGB row nearest an IR row
+    // lies up to half a row off it, which along this edge is ±2.5 RGB columns: ±3 px of width.
+    // (Rows are still lost where the long hole's two sides differ in shading by more than the
+    // closed reading allows.)
+    let calib = Calibration::nyu_default();
+    let scene = black_pipe_before_wall(0.2, 0.3);
     let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 12);
     let out = classify_rgb(&calib, &frame);
     let w = calib.fb() * (1.0 - 1.0 / 3.0);
@@ -524,22 +531,7 @@ fn black_pipe_slanting_eight_pixels_a_row_into_a_nearer_board_is_split_off() {
     // wide; the board's edge (x = 0.15 m at 0.8 m) is at column cx + fx·0.15/0.8 = 422 and its
     // own shadow 40 px wide, so left of column 370 every shadow pixel is the pipe's.
     let calib = Calibration::nyu_default();
-    let mut scene = Scene::new("black pipe slanting before a wall, behind a board");
-    scene.push(
-        "wall",
-        umbra::synth::scene::wall(3.0),
-        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
-    );
-    scene.push(
-        "pipe",
-        umbra::synth::Shape::Cylinder {
-            centre: umbra::synth::V3::new(0.0, 0.0, 1.0),
-            axis: umbra::synth::V3::new(1.0, 0.125, 0.0).normalize(),
-            radius: 0.015,
-            half_len: 0.4,
-        },
-        umbra::synth::Material::black(),
-    );
+    let mut scene = black_pipe_before_wall(0.125, 0.4);
     scene.push(
         "board",
         umbra::synth::Shape::Box {

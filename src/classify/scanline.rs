@@ -972,17 +972,18 @@ fn detached(
     // A nearer surface at Sa (a thin object standing in the shadow) hides the shadow's left end:
     // eq. (4) then measures from the background Sb shows, and the shadow may run on behind that
     // surface, up to its width further left; past the image's left border, any way.
-    let (d_sa, hidden) = if let Some(sa) = sa.filter(|sa| p.disp(sa.far) <= d_sb + p.min_step) {
-        (p.disp(sa.far), 0.0)
-    } else if sa.is_none() {
-        (d_sb, f32::INFINITY)
-    } else {
-        let nearer = raw[..h.start]
-            .iter()
-            .rev()
-            .take_while(|&&r| r != NO_DEPTH && p.disp(r) > d_sb + p.min_step)
-            .count();
-        (d_sb, nearer as f32)
+    let nearer = |sa: &Bound| p.disp(sa.far) > d_sb + p.min_step;
+    let (d_sa, hidden) = match sa {
+        None => (d_sb, f32::INFINITY),
+        Some(sa) if nearer(&sa) => {
+            let width = raw[..h.start]
+                .iter()
+                .rev()
+                .take_while(|&&r| r != NO_DEPTH && p.disp(r) > d_sb + p.min_step)
+                .count();
+            (d_sb, width as f32)
+        }
+        Some(sa) => (p.disp(sa.far), 0.0),
     };
     let reach = (p.max_disp - d_bg).max(0.0) as usize + 2;
     let stop = (h.end + reach).min(n);
