@@ -284,11 +284,11 @@ impl Warp {
                 _ => {}
             }
         }
-        // Off-image pixels land in the spare slot past the image: no branch per pixel.
-        for (&t, &k) in self.target.iter().zip(&self.keys) {
-            // `t <= OUTSIDE` always; the `min` is a cmov that spares a bounds-check branch.
-            let slot = &mut self.zbuf[(t as usize).min(PIXELS)];
-            *slot = (*slot).min(k);
+        match self.simd {
+            // SAFETY: this level runs only when the CPU reported AVX-512 at construction.
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx512 => unsafe { scatter_avx512(&mut self.zbuf, &self.target, &self.keys) },
+            _ => scatter(&mut self.zbuf, &self.target, &self.keys),
         }
         // A nearer pixel followed by a farther one splits apart: the RGB camera, right of the IR
         // camera, sees background there that the IR camera cannot.
@@ -389,6 +389,102 @@ impl Warp {
         let nz = bz + uf * sz + self.t[2] * iz;
         self.rgb_f[0] * (bx + uf * sx + self.t[0] * iz) / nz + self.rgb_c[0]
     }
+}
+
+/// Z-tests a row's source pixels into the z-buffer. A slot keeps the smallest key (the nearest
+/// surface) whatever the order, so any grouping of the stores gives the same buffer.
+#[inline(always)]
+fn scatter(zbuf: &mut [u32; PIXELS + 1], target: &[u32], keys: &[u32]) {
+    // Off-image pixels land in the spare slot past the image: no branch per pixel.
+    for (&t, &k) in target.iter().zip(keys) {
+        // `t <= OUTSIDE` always; the `min` is a cmov that spares a bounds-check branch.
+        let slot = &mut zbuf[(t as usize).min(PIXELS)];
+        *slot = (*slot).min(k);
+    }
+}
+
+/// [`scatter`] sixteen pixels at a time where a surface is smooth: the chunk lands on one target
+/// row, each pixel on its predecessor's target or the next one (the RGB camera's pixels are
+/// larger than the IR camera's), at most two to a target. Then each target's key is one vector
+/// `min` away and the targets are consecutive slots. Those are merged into a block of sixteen
+/// slots held in a register while the chunks move through it, so each block is loaded once and
+/// stored once: a load overlapping a masked store just before it would wait for that store to
+/// retire (that cost more than the scalar loop). Anything else (edges, cracks) is scalar.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512bw,avx512vl,avx512dq,avx2,fma")]
+unsafe fn scatter_avx512(zbuf: &mut [u32; PIXELS + 1], target: &[u32], keys: &[u32]) {
+    use std::arch::x86_64::*;
+    const LANES: usize = 16;
+    let n = target.len().min(keys.len());
+    let iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    let none = _mm512_set1_epi32(-1);
+    let base = zbuf.as_mut_ptr();
+    // The block held in `cur` (its first slot), if any.
+    let mut held: Option<usize> = None;
+    let mut cur = none;
+    let mut i = 0;
+    // Lane `j + 1`'s target minus lane `j`'s needs one element past the chunk.
+    while i + LANES < n {
+        let (t0, t15) = (target[i], target[i + LANES - 1]);
+        // SAFETY: `i + LANES < n` keeps both loads inside `target`.
+        let t = unsafe { _mm512_loadu_si512(target.as_ptr().add(i).cast()) };
+        let next = unsafe { _mm512_loadu_si512(target.as_ptr().add(i + 1).cast()) };
+        let step = _mm512_sub_epi32(next, t);
+        // Bit j: lane j + 1 lands where lane j does (bit 15 compares with the next chunk: unused).
+        let same = _mm512_cmpeq_epi32_mask(step, _mm512_setzero_si512()) & 0x7fff;
+        let small = _mm512_cmple_epu32_mask(step, _mm512_set1_epi32(1)) | 0x8000;
+        let smooth = small == 0xffff
+            && same & (same << 1) == 0
+            && t15 < OUTSIDE
+            && (t0 as usize % WIDTH) + ((t15 - t0) as usize) < WIDTH;
+        if !smooth {
+            if let Some(b) = held.take() {
+                // SAFETY: `b` is a block start from below, inside the image.
+                unsafe { _mm512_storeu_si512(base.add(b).cast(), cur) };
+            }
+            scatter(zbuf, &target[i..i + LANES], &keys[i..i + LANES]);
+            i += LANES;
+            continue;
+        }
+        // SAFETY: as above, for `keys`.
+        let k = unsafe { _mm512_loadu_si512(keys.as_ptr().add(i).cast()) };
+        // Lane j + 1 takes the smaller of its key and lane j's where the two share a target.
+        let before = _mm512_alignr_epi32(k, _mm512_setzero_si512(), LANES as i32 - 1);
+        let merged = _mm512_mask_min_epu32(k, same << 1, k, before);
+        // The last lane of each target, packed: one key per consecutive slot from t0.
+        let packed = _mm512_maskz_compress_epi32(!same, merged);
+        let slots = _mm512_set1_epi32((t15 - t0 + 1) as i32);
+        let (t0, end) = (t0 as usize, t15 as usize + 1);
+        // The slots span one block or two. PIXELS is a multiple of sixteen, so no block runs past
+        // the image.
+        let mut block = t0 & !(LANES - 1);
+        while block < end {
+            if held != Some(block) {
+                if let Some(b) = held {
+                    // SAFETY: `b` is a block start, inside the image.
+                    unsafe { _mm512_storeu_si512(base.add(b).cast(), cur) };
+                }
+                // SAFETY: `block + LANES <= PIXELS`.
+                cur = unsafe { _mm512_loadu_si512(base.add(block).cast()) };
+                held = Some(block);
+            }
+            // Lane j of the block is slot block + j: packed[block + j − t0], where that is one of
+            // the chunk's slots.
+            let from = _mm512_add_epi32(iota, _mm512_set1_epi32(block as i32 - t0 as i32));
+            let lanes = _mm512_cmplt_epu32_mask(from, slots);
+            cur = _mm512_min_epu32(
+                cur,
+                _mm512_mask_permutexvar_epi32(none, lanes, from, packed),
+            );
+            block += LANES;
+        }
+        i += LANES;
+    }
+    if let Some(b) = held {
+        // SAFETY: as above.
+        unsafe { _mm512_storeu_si512(base.add(b).cast(), cur) };
+    }
+    scatter(zbuf, &target[i..n], &keys[i..n]);
 }
 
 /// Which side of a colour edge a boundary pixel shows.
