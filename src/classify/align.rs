@@ -59,9 +59,6 @@ pub struct Warp {
     parity: Vec<u32>,
     /// 0.0, 1.0, … 639.0: column numbers as floats (usize → f32 does not vectorise).
     columns: Vec<f32>,
-    /// Per pixel of the current source row, where its target pixel's centre lies against its
-    /// footprint: [`LEFT_OF_FOOTPRINT`], [`RIGHT_OF_FOOTPRINT`] or 0 (inside).
-    outside: Vec<u8>,
     /// Per column of the current source row: 1 where the next pixel is a jump farther, 2 a jump
     /// nearer (the last column, which has no next, stays 0).
     edge_flags: Vec<u8>,
@@ -104,7 +101,6 @@ impl Warp {
             target: vec![OUTSIDE; WIDTH],
             keys: vec![EMPTY; WIDTH],
             columns: (0..WIDTH).map(|u| u as f32).collect(),
-            outside: vec![0; WIDTH],
             edge_flags: vec![0; WIDTH],
             edge_list: Vec::with_capacity(WIDTH),
             parity: (0..WIDTH).map(|u| ((u & 1) as u32) << LABEL_BITS).collect(),
@@ -228,16 +224,11 @@ impl Warp {
         let (cx, cy) = (self.rgb_c[0], self.rgb_c[1]);
         let (w, h) = (WIDTH as f32 - 0.5, HEIGHT as f32 - 0.5);
         let (iz_scale, iz_offset) = (self.iz_scale, self.iz_offset);
-        let half = self.half_px;
-        let out = self
-            .target
-            .iter_mut()
-            .zip(self.keys.iter_mut())
-            .zip(self.outside.iter_mut());
+        let out = self.target.iter_mut().zip(self.keys.iter_mut());
         // Bit LABEL_BITS holds the parity of u + v: the columns' parities, flipped on odd rows.
         let flip = ((v & 1) as u32) << LABEL_BITS;
         let inputs = filled.iter().zip(&self.columns).zip(ir).zip(&self.parity);
-        for (((t_out, k_out), o_out), (((&raw, &uf), &label), &parity)) in out.zip(inputs) {
+        for ((t_out, k_out), (((&raw, &uf), &label), &parity)) in out.zip(inputs) {
             let rawf = f32::from(raw);
             let iz = rawf * iz_scale + iz_offset;
             let nz = bz + uf * sz + tz * iz;
@@ -253,9 +244,6 @@ impl Warp {
             let xr = round_f32(x);
             let index = round_f32(y) * WIDTH as f32 + xr;
             *t_out = if inside { round_bits(index) } else { OUTSIDE };
-            let off = x - xr;
-            *o_out = u8::from(off > half) * LEFT_OF_FOOTPRINT
-                + u8::from(off < -half) * RIGHT_OF_FOOTPRINT;
             let z = round_bits(clamp_fast(1000.0 * nz * nz * r, 1.0, 65000.0));
             let key = (z << (LABEL_BITS + TIE_BITS)) | (parity ^ flip) | u32::from(label);
             *k_out = if valid { key } else { EMPTY };
@@ -278,7 +266,7 @@ impl Warp {
                 continue;
             }
             let col = t as usize % WIDTH;
-            match self.outside[near] {
+            match self.footprint_side(v, near, filled[near]) {
                 RIGHT_OF_FOOTPRINT if rising && col > 0 => self.target[near] = t - 1,
                 LEFT_OF_FOOTPRINT if !rising && col + 1 < WIDTH => self.target[near] = t + 1,
                 _ => {}
@@ -377,6 +365,28 @@ impl Warp {
                 self.zbuf[i] = GAP;
             }
         }
+    }
+
+    /// Where the centre of the target pixel that source pixel (`u`, `v`) with raw value `raw`
+    /// rounds to lies against the pixel's footprint: [`LEFT_OF_FOOTPRINT`],
+    /// [`RIGHT_OF_FOOTPRINT`] or 0 (inside). Only depth edges need it, so it is not part of the
+    /// vector loop; the arithmetic is [`Warp::project_row`]'s, operation for operation, so the
+    /// rounding agrees with the target that loop chose.
+    fn footprint_side(&self, v: usize, u: usize, raw: u16) -> u8 {
+        let [bx, _, bz] = self.row_ray[v];
+        let [sx, _, sz] = self.col_step;
+        let [tx, _, tz] = self.t;
+        let fx = self.rgb_f[0];
+        let (bx, sx, tx) = (fx * bx, fx * sx, fx * tx);
+        let iz = f32::from(raw) * self.iz_scale + self.iz_offset;
+        let uf = self.columns[u];
+        let nz = bz + uf * sz + tz * iz;
+        let r = 1.0 / (nz * iz);
+        let inv_nz = r * iz;
+        let x = (bx + uf * sx + tx * iz) * inv_nz + self.rgb_c[0];
+        let off = x - round_f32(x);
+        u8::from(off > self.half_px) * LEFT_OF_FOOTPRINT
+            + u8::from(off < -self.half_px) * RIGHT_OF_FOOTPRINT
     }
 
     /// Target column (unrounded) of source pixel (`u`, `v`) with raw value `raw`; the scalar twin
