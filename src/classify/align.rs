@@ -57,8 +57,12 @@ pub struct Warp {
     keys: Vec<u32>,
     /// `(u & 1) << LABEL_BITS` per column, for the tie-break bit.
     parity: Vec<u32>,
-    /// 0.0, 1.0, … 639.0: column numbers as floats (usize → f32 does not vectorise).
-    columns: Vec<f32>,
+    /// Per column `u`: `u·fx·col_step.x`, `u·fy·col_step.y`, `u·col_step.z`, the ray's change
+    /// from column 0 in the projection's terms (products the vector loop need not form; the
+    /// same f32 operations as forming them there, so the same values).
+    col_x: Vec<f32>,
+    col_y: Vec<f32>,
+    col_z: Vec<f32>,
     /// Per column of the current source row: 1 where the next pixel is a jump farther, 2 a jump
     /// nearer (the last column, which has no next, stays 0).
     edge_flags: Vec<u8>,
@@ -81,6 +85,7 @@ impl Warp {
             let v = r * nalgebra::Vector3::new(x, y, z);
             [v.x as f32, v.y as f32, v.z as f32]
         };
+        let col_step = rot(1.0 / d.fx, 0.0, 0.0);
         Warp {
             iz_scale: (-1.0 / calib.raw.numerator) as f32,
             iz_offset: (calib.raw.denominator / calib.raw.numerator) as f32,
@@ -88,7 +93,7 @@ impl Warp {
             row_ray: (0..HEIGHT)
                 .map(|v| rot(-d.cx / d.fx, (v as f64 - d.cy) / d.fy, 1.0))
                 .collect(),
-            col_step: rot(1.0 / d.fx, 0.0, 0.0),
+            col_step,
             t: [t.x as f32, t.y as f32, t.z as f32],
             rgb_f: [calib.rgb.fx as f32, calib.rgb.fy as f32],
             rgb_c: [calib.rgb.cx as f32, calib.rgb.cy as f32],
@@ -100,7 +105,9 @@ impl Warp {
                 .expect("PIXELS + 1 slots"),
             target: vec![OUTSIDE; WIDTH],
             keys: vec![EMPTY; WIDTH],
-            columns: (0..WIDTH).map(|u| u as f32).collect(),
+            col_x: column_terms(calib.rgb.fx as f32 * col_step[0]),
+            col_y: column_terms(calib.rgb.fy as f32 * col_step[1]),
+            col_z: column_terms(col_step[2]),
             edge_flags: vec![0; WIDTH],
             edge_list: Vec::with_capacity(WIDTH),
             parity: (0..WIDTH).map(|u| ((u & 1) as u32) << LABEL_BITS).collect(),
@@ -215,27 +222,27 @@ impl Warp {
     #[inline(always)]
     fn project_row(&mut self, v: usize, filled: &[u16], ir: &[u8]) {
         let [bx, by, bz] = self.row_ray[v];
-        let [sx, sy, sz] = self.col_step;
         let [tx, ty, tz] = self.t;
         let (fx, fy) = (self.rgb_f[0], self.rgb_f[1]);
         // The focal lengths folded into the ray once per row: two multiplies fewer per pixel.
-        let (bx, sx, tx) = (fx * bx, fx * sx, fx * tx);
-        let (by, sy, ty) = (fy * by, fy * sy, fy * ty);
+        let (bx, tx) = (fx * bx, fx * tx);
+        let (by, ty) = (fy * by, fy * ty);
         let (cx, cy) = (self.rgb_c[0], self.rgb_c[1]);
         let (w, h) = (WIDTH as f32 - 0.5, HEIGHT as f32 - 0.5);
         let (iz_scale, iz_offset) = (self.iz_scale, self.iz_offset);
         let out = self.target.iter_mut().zip(self.keys.iter_mut());
         // Bit LABEL_BITS holds the parity of u + v: the columns' parities, flipped on odd rows.
         let flip = ((v & 1) as u32) << LABEL_BITS;
-        let inputs = filled.iter().zip(&self.columns).zip(ir).zip(&self.parity);
-        for ((t_out, k_out), (((&raw, &uf), &label), &parity)) in out.zip(inputs) {
+        let columns = self.col_x.iter().zip(&self.col_y).zip(&self.col_z);
+        let inputs = filled.iter().zip(columns).zip(ir).zip(&self.parity);
+        for ((t_out, k_out), (((&raw, ((&ux, &uy), &uz)), &label), &parity)) in out.zip(inputs) {
             let rawf = f32::from(raw);
             let iz = rawf * iz_scale + iz_offset;
-            let nz = bz + uf * sz + tz * iz;
+            let nz = bz + uz + tz * iz;
             let r = 1.0 / (nz * iz);
             let inv_nz = r * iz;
-            let x = (bx + uf * sx + tx * iz) * inv_nz + cx;
-            let y = (by + uf * sy + ty * iz) * inv_nz + cy;
+            let x = (bx + ux + tx * iz) * inv_nz + cx;
+            let y = (by + uy + ty * iz) * inv_nz + cy;
             // The hole test on the float already at hand (one compare, no 16-bit widening).
             let valid = (iz > 0.0) & (rawf < NO_DEPTH as f32 - 0.5) & (nz > 0.0);
             // `&`, not `&&`: no short-circuit branches in the vector loop.
@@ -374,16 +381,14 @@ impl Warp {
     /// rounding agrees with the target that loop chose.
     fn footprint_side(&self, v: usize, u: usize, raw: u16) -> u8 {
         let [bx, _, bz] = self.row_ray[v];
-        let [sx, _, sz] = self.col_step;
         let [tx, _, tz] = self.t;
         let fx = self.rgb_f[0];
-        let (bx, sx, tx) = (fx * bx, fx * sx, fx * tx);
+        let (bx, tx) = (fx * bx, fx * tx);
         let iz = f32::from(raw) * self.iz_scale + self.iz_offset;
-        let uf = self.columns[u];
-        let nz = bz + uf * sz + tz * iz;
+        let nz = bz + self.col_z[u] + tz * iz;
         let r = 1.0 / (nz * iz);
         let inv_nz = r * iz;
-        let x = (bx + uf * sx + tx * iz) * inv_nz + self.rgb_c[0];
+        let x = (bx + self.col_x[u] + tx * iz) * inv_nz + self.rgb_c[0];
         let off = x - round_f32(x);
         u8::from(off > self.half_px) * LEFT_OF_FOOTPRINT
             + u8::from(off < -self.half_px) * RIGHT_OF_FOOTPRINT
@@ -495,6 +500,11 @@ unsafe fn scatter_avx512(zbuf: &mut [u32; PIXELS + 1], target: &[u32], keys: &[u
         unsafe { _mm512_storeu_si512(base.add(b).cast(), cur) };
     }
     scatter(zbuf, &target[i..n], &keys[i..n]);
+}
+
+/// `u · step` for every column `u`, in f32.
+fn column_terms(step: f32) -> Vec<f32> {
+    (0..WIDTH).map(|u| u as f32 * step).collect()
 }
 
 /// Which side of a colour edge a boundary pixel shows.
