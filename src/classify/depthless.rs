@@ -25,6 +25,8 @@
 //! Runs on holes the scanline left OTHER (splits only on those at least 10 px wide), after the
 //! scanline and before the warp; nothing is allocated.
 
+use super::align::Simd;
+use super::holes::HoleMask;
 use crate::calib::Calibration;
 use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
@@ -78,6 +80,8 @@ pub struct ColourSplit {
     rgb_f: [f64; 2],
     rgb_c: [f64; 2],
     /// Scratch for [`ColourSplit::split`], reused so that nothing is zeroed or allocated per hole.
+    /// Which build of the row loop this CPU runs (detected once).
+    simd: Simd,
     prefix: Prefix,
 }
 
@@ -154,6 +158,7 @@ impl ColourSplit {
             t: [t.x, t.y, t.z],
             rgb_f: [calib.rgb.fx, calib.rgb.fy],
             rgb_c: [calib.rgb.cx, calib.rgb.cy],
+            simd: Simd::detect(),
             prefix: Prefix {
                 bg_count: vec![0; WIDTH + 1],
                 dist_sum: vec![0; WIDTH + 1],
@@ -167,40 +172,68 @@ impl ColourSplit {
     /// its shift), and the occluder part of `filled` is set to the raw value its shadow (or its
     /// right edge) implies, so the warp puts it where it stands.
     pub fn apply(&mut self, raw: &[u16], rgb: &[u8], labels: &mut [u8], filled: &mut [u16]) {
+        // SAFETY: each build runs only when the CPU reported its features at construction.
+        #[cfg(target_arch = "x86_64")]
+        match self.simd {
+            Simd::Avx512 => return unsafe { self.apply_avx512(raw, rgb, labels, filled) },
+            Simd::Avx2 => return unsafe { self.apply_avx2(raw, rgb, labels, filled) },
+            Simd::Baseline => {}
+        }
+        self.apply_body(raw, rgb, labels, filled);
+    }
+
+    /// Runs the given build of the row loop (tests compare the builds).
+    #[cfg(test)]
+    pub(crate) fn set_simd(&mut self, simd: Simd) {
+        self.simd = simd;
+    }
+
+    /// The row loop compiled for AVX2: the rows' hole bitmaps and label scans vectorise.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn apply_avx2(
+        &mut self,
+        raw: &[u16],
+        rgb: &[u8],
+        labels: &mut [u8],
+        filled: &mut [u16],
+    ) {
+        self.apply_body(raw, rgb, labels, filled);
+    }
+
+    /// The row loop compiled for AVX-512.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512bw,avx512vl,avx512dq,avx2,fma")]
+    unsafe fn apply_avx512(
+        &mut self,
+        raw: &[u16],
+        rgb: &[u8],
+        labels: &mut [u8],
+        filled: &mut [u16],
+    ) {
+        self.apply_body(raw, rgb, labels, filled);
+    }
+
+    #[inline(always)]
+    fn apply_body(&mut self, raw: &[u16], rgb: &[u8], labels: &mut [u8], filled: &mut [u16]) {
         let mut prefix = std::mem::take(&mut self.prefix);
         prefix.memo = [None; MEMO];
         prefix.recent = pairs::Recent::default();
         for v in 1..HEIGHT - 1 {
             let row = &raw[v * WIDTH..(v + 1) * WIDTH];
-            let mut u = SIDE;
+            let mask = HoleMask::of(row);
+            // Each hole is visited once: from its first pixel, on to its end (islands of up to
+            // MAX_ISLAND pixels included), going from hole to hole on the row's bitmap.
+            let mut u = mask.next_hole(SIDE);
             while u < WIDTH - SIDE {
                 let i = v * WIDTH + u;
-                // Stretches without an OTHER label, 32 pixels at a time (branch-free test,
-                // vectorised): no candidate starts there. A hole running on past the stretch
-                // started in it on a label that is not OTHER, and is skipped whole, as below.
-                if u + 32 <= WIDTH
-                    && !labels[i..i + 32]
-                        .iter()
-                        .fold(false, |any, &l| any | (l == OTHER))
-                {
-                    u += 32;
-                    if u < WIDTH && row[u] == NO_DEPTH && row[u - 1] == NO_DEPTH {
-                        u = hole_span(row, u).1;
-                    }
-                    continue;
-                }
-                if raw[i] != NO_DEPTH {
-                    u += 1;
-                    continue;
-                }
-                // Each hole is visited once: from its first pixel, on to its end.
-                let (a, b) = hole_span(row, u);
+                let (a, b) = hole_span_masked(&mask, row, u);
                 if labels[i] != OTHER {
-                    u = b.max(u + 1);
+                    u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
                 if self.detached_pair(raw, rgb, labels, filled, &mut prefix.recent, v, (a, b)) {
-                    u = b.max(u + 1);
+                    u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
                 // The background on the left first; failing that, a nearer surface on the left
@@ -246,7 +279,7 @@ impl ColourSplit {
                         }
                     }
                 }
-                u = b.max(u + 1);
+                u = mask.next_hole(b.max(u + 1));
             }
         }
         self.prefix = prefix;
@@ -820,6 +853,27 @@ fn ceil(x: f64) -> i64 {
     t + i64::from((t as f64) < x)
 }
 
+/// [`hole_span`] with the row's [`HoleMask`] at hand: the runs' ends are found a word at a time.
+fn hole_span_masked(mask: &HoleMask, row: &[u16], u: usize) -> (usize, usize) {
+    let mut b = mask.next_valid(u);
+    while b < row.len() {
+        let island = mask.next_hole(b) - b;
+        if island > MAX_ISLAND || b + island >= row.len() {
+            break;
+        }
+        b = mask.next_valid(b + island);
+    }
+    let mut a = mask.prev_valid_end(u);
+    while a > 0 {
+        let island = a - mask.prev_hole_end(a);
+        if island > MAX_ISLAND || island >= a {
+            break;
+        }
+        a = mask.prev_valid_end(a - island);
+    }
+    (a, b)
+}
+
 /// The hole through column `u` of `row` (a hole pixel), stepping over valid islands of up to
 /// [`MAX_ISLAND`] pixels (speckle, spurious returns inside a shadow): `[a, b)`.
 fn hole_span(row: &[u16], u: usize) -> (usize, usize) {
@@ -873,6 +927,36 @@ mod tests {
             let x = k as f64 / 16.0 + [0.0, 1e-9, -1e-9][k.rem_euclid(3) as usize];
             assert_eq!(round(x), x.round() as i64, "round({x})");
             assert_eq!(ceil(x), x.ceil() as i64, "ceil({x})");
+        }
+    }
+
+    #[test]
+    fn hole_span_on_the_bitmap_matches_the_pixel_scan() {
+        // Holes and valid islands of 1 to 5 pixels (some merge, some do not), up to both ends.
+        let mut seed = 0x2545_f491_u32;
+        for _ in 0..200 {
+            let mut row = Vec::with_capacity(WIDTH);
+            while row.len() < WIDTH {
+                seed ^= seed << 13;
+                seed ^= seed >> 17;
+                seed ^= seed << 5;
+                let len = 1 + (seed >> 8) as usize % 5;
+                let value = if seed.is_multiple_of(2) {
+                    NO_DEPTH
+                } else {
+                    900
+                };
+                row.extend(std::iter::repeat_n(value, len));
+            }
+            row.truncate(WIDTH);
+            let mask = HoleMask::of(&row);
+            for u in (0..WIDTH).filter(|&u| row[u] == NO_DEPTH) {
+                assert_eq!(
+                    hole_span_masked(&mask, &row, u),
+                    hole_span(&row, u),
+                    "at {u}"
+                );
+            }
         }
     }
 }

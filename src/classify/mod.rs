@@ -6,6 +6,7 @@
 pub mod align;
 pub mod consensus;
 pub mod depthless;
+mod holes;
 pub mod scanline;
 
 use crate::calib::Calibration;
@@ -137,11 +138,12 @@ mod tests {
             for &level in &levels {
                 let mut c = Classifier::new(&calib);
                 c.scan.set_simd(level);
+                c.colour.set_simd(level);
                 c.warp.set_simd(level);
                 let mut out = Classified::default();
-                c.classify(&frame.raw, &mut out);
+                c.classify_with_rgb(&frame.raw, Some(&frame.rgb), &mut out);
                 // A second frame through the same classifier: its scratch state resets cleanly.
-                c.classify(&frame.raw, &mut out);
+                c.classify_with_rgb(&frame.raw, Some(&frame.rgb), &mut out);
                 outputs.push((level, out));
             }
             let (base_level, base) = &outputs[0];

@@ -13,6 +13,7 @@
 //! scaled by one constant. Everything is on the stack: no allocation per row or frame.
 
 use super::align::Simd;
+use super::holes::HoleMask;
 use super::Params;
 use crate::calib::Calibration;
 use crate::labels::{ATTACHED, DETACHED, NO_DEPTH, OTHER, VALID, WIDTH};
@@ -434,54 +435,18 @@ fn bound_right(raw: &[u16], end: usize) -> Bound {
     Bound { edge, far, near }
 }
 
-/// Words of a row's hole bitmap.
-const MASK_WORDS: usize = WIDTH.div_ceil(64);
-
-/// Bit `j` of word `w`: pixel `64·w + j` of `raw` (at most [`WIDTH`] long) has no depth; bits
-/// past the row are clear. Sixty-four compares folded into one word: vectorised.
-#[inline(always)]
-fn hole_bitmap(raw: &[u16]) -> [u64; MASK_WORDS] {
-    let mut words = [0u64; MASK_WORDS];
-    for (word, chunk) in words.iter_mut().zip(raw.chunks(64)) {
-        *word = chunk
-            .iter()
-            .enumerate()
-            .fold(0u64, |m, (j, &r)| m | (u64::from(r == NO_DEPTH) << j));
-    }
-    words
-}
-
 /// The runs of "no depth" pixels of `raw` (at most [`WIDTH`] long), left to right, into `out`;
-/// returns how many. Runs are read off the hole bitmap a word at a time (count trailing zeros),
-/// so the cost is per hole, not per pixel.
+/// returns how many. Read off the row's [`HoleMask`], so the cost is per hole, not per pixel.
 #[inline(always)]
 fn find_holes(raw: &[u16], out: &mut [Run; MAX_RUNS]) -> usize {
-    let words = hole_bitmap(raw);
-    // The first set bit of `word(w)` at or after bit `from`, or `n` when there is none.
-    let next = |from: usize, word: &dyn Fn(usize) -> u64| {
-        let mut w = from / 64;
-        let mut bits = word(w) & (!0u64 << (from % 64));
-        while bits == 0 {
-            w += 1;
-            if w == MASK_WORDS {
-                return raw.len();
-            }
-            bits = word(w);
-        }
-        (w * 64 + bits.trailing_zeros() as usize).min(raw.len())
-    };
-    let (holes, valid) = (|w: usize| words[w], |w: usize| !words[w]);
+    let mask = HoleMask::of(raw);
     let mut count = 0;
-    let mut u = 0;
-    while u < raw.len() {
-        let start = next(u, &holes);
-        if start >= raw.len() {
-            break;
-        }
-        let end = next(start, &valid);
+    let mut start = mask.next_hole(0);
+    while start < raw.len() {
+        let end = mask.next_valid(start);
         out[count] = Run { start, end };
         count += 1;
-        u = end;
+        start = mask.next_hole(end);
     }
     count
 }
