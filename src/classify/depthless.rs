@@ -483,6 +483,10 @@ impl ColourSplit {
                 .any(|(&l, &r)| r == NO_DEPTH && l != OTHER && w >= v);
             (end == b && end - a >= 2 * MIN_HOLE && !others).then_some((a, end))
         };
+        // This row's hole is `[a, b)` itself: its width rules out most holes before any search.
+        if b - a < 2 * MIN_HOLE {
+            return None;
+        }
         hole(v)?;
         let (above, below) = (hole(v - 1)?, hole(v + 1)?);
         let t = self.right_edge(rgb, v, (a, b), raw[v * WIDTH + b], prefix)?;
