@@ -165,6 +165,12 @@ mod tests {
                     by_hand(raw, from, false),
                     "valid from {from}"
                 );
+                let (hole, valid) = (
+                    back_by_hand(raw, from, true),
+                    back_by_hand(raw, from, false),
+                );
+                assert_eq!(mask.prev_hole_end(from), hole, "hole before {from}");
+                assert_eq!(mask.prev_valid_end(from), valid, "valid before {from}");
             }
         }
     }
