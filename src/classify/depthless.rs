@@ -79,9 +79,9 @@ pub struct ColourSplit {
     /// RGB focal lengths and principal point.
     rgb_f: [f64; 2],
     rgb_c: [f64; 2],
-    /// Scratch for [`ColourSplit::split`], reused so that nothing is zeroed or allocated per hole.
     /// Which build of the row loop this CPU runs (detected once).
     simd: Simd,
+    /// Scratch for [`ColourSplit::split`], reused so that nothing is zeroed or allocated per hole.
     prefix: Prefix,
 }
 
