@@ -81,6 +81,9 @@ pub struct ColourSplit {
     rgb_c: [f64; 2],
     /// Which build of the row loop this CPU runs (detected once).
     simd: Simd,
+    /// The current frame's hole bitmap, one per row, made once at the start of
+    /// [`ColourSplit::apply`] (spans in neighbouring rows are looked up many times).
+    masks: Vec<HoleMask>,
     /// Scratch for [`ColourSplit::split`], reused so that nothing is zeroed or allocated per hole.
     prefix: Prefix,
 }
@@ -159,6 +162,7 @@ impl ColourSplit {
             rgb_f: [calib.rgb.fx, calib.rgb.fy],
             rgb_c: [calib.rgb.cx, calib.rgb.cy],
             simd: Simd::detect(),
+            masks: vec![HoleMask::of(&[]); HEIGHT],
             prefix: Prefix {
                 bg_count: vec![0; WIDTH + 1],
                 dist_sum: vec![0; WIDTH + 1],
@@ -219,15 +223,18 @@ impl ColourSplit {
         let mut prefix = std::mem::take(&mut self.prefix);
         prefix.memo = [None; MEMO];
         prefix.recent = pairs::Recent::default();
+        for (mask, row) in self.masks.iter_mut().zip(raw.chunks_exact(WIDTH)) {
+            *mask = HoleMask::of(row);
+        }
         for v in 1..HEIGHT - 1 {
             let row = &raw[v * WIDTH..(v + 1) * WIDTH];
-            let mask = HoleMask::of(row);
+            let mask = &self.masks[v];
             // Each hole is visited once: from its first pixel, on to its end (islands of up to
             // MAX_ISLAND pixels included), going from hole to hole on the row's bitmap.
             let mut u = mask.next_hole(SIDE);
             while u < WIDTH - SIDE {
                 let i = v * WIDTH + u;
-                let (a, b) = hole_span_masked(&mask, row, u);
+                let (a, b) = hole_span(mask, row, u);
                 if labels[i] != OTHER {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
@@ -427,7 +434,7 @@ impl ColourSplit {
                         .then(|| (mid + 3..to).find(|&m| row[m] == NO_DEPTH))
                         .flatten()
                 })?;
-            let (a, b) = hole_span(row, at);
+            let (a, b) = hole_span(&self.masks[w], row, at);
             self.candidate(raw, labels, w, (a, b), w < v, c.behind)
         };
         let (above, below) = (neighbour(v - 1)?, neighbour(v + 1)?);
@@ -476,7 +483,7 @@ impl ColourSplit {
             if b + SIDE > WIDTH || row[b - 1] != NO_DEPTH || row[b] == NO_DEPTH {
                 return None;
             }
-            let (a, end) = hole_span(row, b - 1);
+            let (a, end) = hole_span(&self.masks[w], row, b - 1);
             let others = labels[w * WIDTH + a..w * WIDTH + end]
                 .iter()
                 .zip(&row[a..end])
@@ -857,8 +864,10 @@ fn ceil(x: f64) -> i64 {
     t + i64::from((t as f64) < x)
 }
 
-/// [`hole_span`] with the row's [`HoleMask`] at hand: the runs' ends are found a word at a time.
-fn hole_span_masked(mask: &HoleMask, row: &[u16], u: usize) -> (usize, usize) {
+/// The hole through column `u` of `row` (a hole pixel), stepping over valid islands of up to
+/// [`MAX_ISLAND`] pixels (speckle, spurious returns inside a shadow): `[a, b)`. The runs' ends
+/// are read off the row's [`HoleMask`] a word at a time.
+fn hole_span(mask: &HoleMask, row: &[u16], u: usize) -> (usize, usize) {
     let mut b = mask.next_valid(u);
     while b < row.len() {
         let island = mask.next_hole(b) - b;
@@ -878,49 +887,6 @@ fn hole_span_masked(mask: &HoleMask, row: &[u16], u: usize) -> (usize, usize) {
     (a, b)
 }
 
-/// The hole through column `u` of `row` (a hole pixel), stepping over valid islands of up to
-/// [`MAX_ISLAND`] pixels (speckle, spurious returns inside a shadow): `[a, b)`.
-fn hole_span(row: &[u16], u: usize) -> (usize, usize) {
-    let run_end = |from: usize| {
-        row[from..]
-            .iter()
-            .position(|&r| r != NO_DEPTH)
-            .map_or(row.len(), |k| from + k)
-    };
-    let run_start = |to: usize| {
-        row[..to]
-            .iter()
-            .rposition(|&r| r != NO_DEPTH)
-            .map_or(0, |k| k + 1)
-    };
-    let mut b = run_end(u);
-    while b < row.len() {
-        let island = row[b..]
-            .iter()
-            .take(MAX_ISLAND + 1)
-            .take_while(|&&r| r != NO_DEPTH)
-            .count();
-        if island > MAX_ISLAND || b + island >= row.len() {
-            break;
-        }
-        b = run_end(b + island);
-    }
-    let mut a = run_start(u);
-    while a > 0 {
-        let island = row[..a]
-            .iter()
-            .rev()
-            .take(MAX_ISLAND + 1)
-            .take_while(|&&r| r != NO_DEPTH)
-            .count();
-        if island > MAX_ISLAND || island >= a {
-            break;
-        }
-        a = run_start(a - island);
-    }
-    (a, b)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -932,6 +898,48 @@ mod tests {
             assert_eq!(round(x), x.round() as i64, "round({x})");
             assert_eq!(ceil(x), x.ceil() as i64, "ceil({x})");
         }
+    }
+
+    /// [`hole_span`] pixel by pixel: the reference.
+    fn hole_span_by_pixels(row: &[u16], u: usize) -> (usize, usize) {
+        let run_end = |from: usize| {
+            row[from..]
+                .iter()
+                .position(|&r| r != NO_DEPTH)
+                .map_or(row.len(), |k| from + k)
+        };
+        let run_start = |to: usize| {
+            row[..to]
+                .iter()
+                .rposition(|&r| r != NO_DEPTH)
+                .map_or(0, |k| k + 1)
+        };
+        let mut b = run_end(u);
+        while b < row.len() {
+            let island = row[b..]
+                .iter()
+                .take(MAX_ISLAND + 1)
+                .take_while(|&&r| r != NO_DEPTH)
+                .count();
+            if island > MAX_ISLAND || b + island >= row.len() {
+                break;
+            }
+            b = run_end(b + island);
+        }
+        let mut a = run_start(u);
+        while a > 0 {
+            let island = row[..a]
+                .iter()
+                .rev()
+                .take(MAX_ISLAND + 1)
+                .take_while(|&&r| r != NO_DEPTH)
+                .count();
+            if island > MAX_ISLAND || island >= a {
+                break;
+            }
+            a = run_start(a - island);
+        }
+        (a, b)
     }
 
     #[test]
@@ -956,8 +964,8 @@ mod tests {
             let mask = HoleMask::of(&row);
             for u in (0..WIDTH).filter(|&u| row[u] == NO_DEPTH) {
                 assert_eq!(
-                    hole_span_masked(&mask, &row, u),
-                    hole_span(&row, u),
+                    hole_span(&mask, &row, u),
+                    hole_span_by_pixels(&row, u),
                     "at {u}"
                 );
             }

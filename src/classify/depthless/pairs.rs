@@ -128,7 +128,7 @@ impl ColourSplit {
     fn repeats(&self, raw: &[u16], v: usize, h: Closed, o: Closed, shift: usize) -> bool {
         [v - 1, v + 1].into_iter().all(|w| {
             let row = &raw[w * WIDTH..(w + 1) * WIDTH];
-            let hole = |u: usize| (row[u] == NO_DEPTH).then(|| hole_span(row, u));
+            let hole = |u: usize| (row[u] == NO_DEPTH).then(|| hole_span(&self.masks[w], row, u));
             let (Some(hs), Some(os)) = (hole((h.a + h.b) / 2), hole((o.a + o.b) / 2)) else {
                 return false;
             };
