@@ -97,6 +97,52 @@ impl HoleMask {
     }
 }
 
+/// Rows that try the searches: all holes, all valid, shorter than a frame's, runs starting,
+/// ending and crossing at the 64-pixel word boundaries and at both ends, alternating pixels (the
+/// most runs a row can hold), and random ones. Shared with the scanline's run tests.
+#[cfg(test)]
+pub(crate) fn test_rows() -> Vec<Vec<u16>> {
+    let mut rows: Vec<Vec<u16>> = vec![vec![NO_DEPTH; WIDTH], vec![800; WIDTH], vec![800; 70]];
+    let mut row = vec![800; WIDTH];
+    for (a, b) in [
+        (0, 1),
+        (63, 64),
+        (64, 65),
+        (100, 128),
+        (191, 257),
+        (639, 640),
+    ] {
+        row[a..b].fill(NO_DEPTH);
+    }
+    rows.push(row);
+    let mut short = vec![NO_DEPTH; 70];
+    short[66] = 900;
+    rows.push(short);
+    rows.push(
+        (0..WIDTH)
+            .map(|u| if u % 2 == 0 { NO_DEPTH } else { 800 })
+            .collect(),
+    );
+    let mut seed = 0x9e37_79b9_u32;
+    for _ in 0..50 {
+        rows.push(
+            (0..WIDTH)
+                .map(|_| {
+                    seed ^= seed << 13;
+                    seed ^= seed >> 17;
+                    seed ^= seed << 5;
+                    if seed.is_multiple_of(3) {
+                        NO_DEPTH
+                    } else {
+                        900
+                    }
+                })
+                .collect(),
+        );
+    }
+    rows
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -118,40 +164,7 @@ mod tests {
 
     #[test]
     fn searches_both_ways_agree_with_a_pixel_by_pixel_scan() {
-        let mut rows: Vec<Vec<u16>> = vec![vec![NO_DEPTH; WIDTH], vec![800; WIDTH], vec![800; 70]];
-        // Runs starting, ending and crossing at the 64-pixel word boundaries, and at the ends.
-        let mut row = vec![800; WIDTH];
-        for (a, b) in [
-            (0, 1),
-            (63, 64),
-            (64, 65),
-            (100, 128),
-            (191, 257),
-            (639, 640),
-        ] {
-            row[a..b].fill(NO_DEPTH);
-        }
-        rows.push(row);
-        let mut short = vec![NO_DEPTH; 70];
-        short[66] = 900;
-        rows.push(short);
-        let mut seed = 0x9e37_79b9_u32;
-        for _ in 0..20 {
-            rows.push(
-                (0..WIDTH)
-                    .map(|_| {
-                        seed ^= seed << 13;
-                        seed ^= seed >> 17;
-                        seed ^= seed << 5;
-                        if seed.is_multiple_of(3) {
-                            NO_DEPTH
-                        } else {
-                            900
-                        }
-                    })
-                    .collect(),
-            );
-        }
+        let rows = test_rows();
         for raw in &rows {
             let mask = HoleMask::of(raw);
             for from in 0..=raw.len() + 1 {

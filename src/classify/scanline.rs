@@ -1336,47 +1336,7 @@ mod tests {
 
     #[test]
     fn hole_runs_are_found_across_word_boundaries_and_at_both_ends() {
-        let mut rows: Vec<Vec<u16>> = vec![
-            vec![NO_DEPTH; WIDTH],
-            vec![800; WIDTH],
-            vec![800; 70], // a row shorter than a frame's
-        ];
-        // Runs starting, ending and crossing at the 64-pixel word boundaries, and at the ends.
-        let mut row = vec![800; WIDTH];
-        for (a, b) in [
-            (0, 1),
-            (63, 64),
-            (64, 65),
-            (100, 128),
-            (191, 257),
-            (639, 640),
-        ] {
-            row[a..b].fill(NO_DEPTH);
-        }
-        rows.push(row);
-        // Alternating pixels: the most runs a row can hold.
-        rows.push(
-            (0..WIDTH)
-                .map(|u| if u % 2 == 0 { NO_DEPTH } else { 800 })
-                .collect(),
-        );
-        let mut seed = 0x9e37_79b9_u32;
-        for _ in 0..50 {
-            rows.push(
-                (0..WIDTH)
-                    .map(|_| {
-                        seed ^= seed << 13;
-                        seed ^= seed >> 17;
-                        seed ^= seed << 5;
-                        if seed.is_multiple_of(3) {
-                            NO_DEPTH
-                        } else {
-                            900
-                        }
-                    })
-                    .collect(),
-            );
-        }
+        let rows = crate::classify::holes::test_rows();
         let mut out = [Run::default(); MAX_RUNS];
         for raw in &rows {
             let n = find_holes(raw, &mut out);
