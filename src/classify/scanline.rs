@@ -769,7 +769,23 @@ fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> 
     let background_after = |row: &[u16], end: usize| {
         row[end] != NO_DEPTH && d_occ - p.disp(row[end]) > w - 2.0 * p.min_step
     };
-    if !background_after(raw, end) {
+    // Or a hole that a nearer surface right of it explains as its attached shadow on the
+    // background (eq. 3, within its tolerance), but not as its shadow on the occluder (wider
+    // than that by more than the widening): had the occluder gone on behind the hole, it would
+    // show there.
+    let shadowed_after = |row: &[u16], end: usize| {
+        let next = end + row[end..].iter().take_while(|&&r| r == NO_DEPTH).count();
+        row[end] == NO_DEPTH && next < row.len() && {
+            // Both ends read conservatively: slanted surfaces, mixed edge pixels.
+            let occluder_end = d_occ.min(p.disp(row[end - 1]));
+            let on_occluder = p.disp(bound_right(row, next).near) - occluder_end;
+            let width = (next - end) as f32;
+            on_occluder >= p.min_step
+                && width > on_occluder + WIDENING + 1.0
+                && width <= on_occluder + w + p.over
+        }
+    };
+    if !background_after(raw, end) && !shadowed_after(raw, end) {
         // Another hole (a black object behind it, say) hides where the occluder ends here: its
         // width is read in the nearest rows above or below where the background shows.
         return occluder_width_nearby(raw.len(), rows, |row| {
@@ -1928,6 +1944,37 @@ mod tests {
         for v in [100, 229] {
             let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
             assert!(hole.iter().all(|&l| l == ATTACHED), "row {v}: {hole:?}");
+        }
+    }
+
+    #[test]
+    fn thin_rod_before_a_nearer_objects_shadow_is_judged_by_that_shadows_width() {
+        // The rod of the test above (10 px at 1.645 m, shift 12 px, shadow [288, 298), lit gap
+        // swallowed in three rows of four), with a box at 1 m from column `zc` on: its attached
+        // shadow on the wall, [zc − 29.1, zc), hides the wall right of the rod in every row.
+        // Had the rod gone on behind that hole, the box's shadow on the rod would be only
+        // f·b·(1/1 − 1/1.645) = 17.1 px wide: a hole [310, 336) is wider (by more than the
+        // widening), so the rod ends at 310 and is thin: detached. A hole [310, 328) could be
+        // the box's shadow on a wider rod: nothing tells, and it stays attached.
+        let (c, p) = params();
+        for (zc, code) in [(336, DETACHED), (328, ATTACHED)] {
+            let mut raw = vec![raw_at(&c, 3.0); PIXELS];
+            for v in 0..HEIGHT {
+                let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+                row[288..if v % 4 == 0 { 298 } else { 300 }].fill(NO_DEPTH);
+                row[300..310].fill(raw_at(&c, 1.645));
+                row[310..zc].fill(NO_DEPTH);
+                row[zc..zc + 60].fill(raw_at(&c, 1.0));
+            }
+            let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+            classify_frame(&p, &raw, &mut labels, &mut filled);
+            for v in [101, 229, 479] {
+                let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
+                assert!(
+                    hole.iter().all(|&l| l == code),
+                    "zc {zc}, row {v}: {hole:?}"
+                );
+            }
         }
     }
 
