@@ -562,9 +562,12 @@ fn classify_bounded(
     match verdict {
         Detached::No => {
             // A step under `min_step` that no detached occluder explains: a thin edge's
-            // attached shadow, which the widening makes visible (eq. 3 at half the step).
+            // attached shadow, which the widening makes visible (eq. 3 at half the step). The
+            // edge pixels themselves must show it: on a flat surface, the extremes of noisy
+            // samples and a noisy slope extrapolated over the hole can make up such a step.
             let half = 0.5 * p.min_step;
-            if w >= half && !same_surface(p, raw, h, sa, sb, half) {
+            let step = p.disp(sb.edge) - p.disp(sa.edge);
+            if w >= half && step >= half && !same_surface(p, raw, h, sa, sb, half) {
                 label_attached(p, raw, h, w, rows, labels);
             }
             if labels[h.start] == OTHER {
@@ -1586,6 +1589,19 @@ mod tests {
         let mut flat = vec![raw_at(&c, 2.30); WIDTH];
         flat[297..300].fill(NO_DEPTH);
         assert_eq!(&run(&flat)[297..300], &[OTHER; 3]);
+        // A dropout [300, 304) on that wall whose bounds are noisy: the edge pixels 2 raw units
+        // farther and nearer (4 units apart: 0.498 px of disparity), a sample beside each 3
+        // units off. The extremes of the samples differ by 0.62 px and the slope read left of
+        // the hole extrapolates to 1.3 px, but the edges are under half a step apart: OTHER.
+        assert!(c.px_per_raw() * 4.0 < 0.5);
+        let r = raw_at(&c, 2.30);
+        let mut noisy = vec![r; WIDTH];
+        noisy[295] = r - 3;
+        noisy[299] = r + 2;
+        noisy[300..304].fill(NO_DEPTH);
+        noisy[304] = r - 2;
+        noisy[305] = r - 3;
+        assert_eq!(&run(&noisy)[300..304], &[OTHER; 4]);
     }
 
     #[test]
