@@ -43,6 +43,10 @@ pub struct Args {
     /// Noise-free sensor: exact raw values, shadows exactly as wide as geometry, no dropouts.
     #[arg(long)]
     pub ideal: bool,
+    /// Make every black or glossy surface matte in its own colour, so the sensor measures it:
+    /// the same scenes without occluders that return no depth.
+    #[arg(long)]
+    pub all_matte: bool,
     /// Write a suite of scenes (half simple, half complex) to DIR/recordings and DIR/gt.
     #[arg(long, value_name = "DIR")]
     pub suite: Option<PathBuf>,
@@ -170,7 +174,11 @@ fn make_job(scene: Scene, category: Category, seed: u64, a: &Args, calib: Calibr
         sensor_for(category)
     };
     Job {
-        scene,
+        scene: if a.all_matte {
+            scene.all_matte()
+        } else {
+            scene
+        },
         category,
         seed,
         frames: a.frames,

@@ -114,6 +114,26 @@ impl Scene {
         }
     }
 
+    /// The same scene with every surface the sensor cannot measure (black, glossy) made matte in
+    /// its own colour: the shadows' geometry without occluders that return no depth, to tell the
+    /// classifier's misses on those apart from the rest.
+    pub fn all_matte(mut self) -> Scene {
+        let mut changed = 0;
+        for o in &mut self.objects {
+            let m = o.material;
+            if m.specular || m.albedo < super::SensorModel::kinect().min_albedo {
+                o.material = Material::matte(m.colour);
+                changed += 1;
+            }
+        }
+        match changed {
+            0 => {}
+            1 => self.description += "; 1 black or glossy surface made matte",
+            n => self.description += &format!("; {n} black or glossy surfaces made matte"),
+        }
+        self
+    }
+
     /// Adds a static object and returns it for further tweaks (motion).
     pub fn push(&mut self, kind: &'static str, shape: Shape, material: Material) -> &mut Object {
         let id = self.objects.len() as u32;

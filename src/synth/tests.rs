@@ -244,6 +244,38 @@ fn shadows_on_black_or_out_of_range_surfaces_are_other() {
 }
 
 #[test]
+fn all_matte_makes_black_and_glossy_surfaces_measurable_and_keeps_the_rest() {
+    let c = Calibration::nyu_default();
+    // The black poster where the box's shadow falls, and a glossy box, as above.
+    let mut s = Scene::box_before_wall(1.0, 3.0);
+    s.objects[1].material = Material::glossy([0.5, 0.5, 0.5]);
+    s.push(
+        "poster",
+        Shape::Box {
+            centre: V3::new(-0.7, 0.0, 2.99),
+            half: V3::new(0.3, 0.6, 0.005),
+            yaw: 0.0,
+        },
+        Material::black(),
+    );
+    let wall = s.objects[0].material;
+    let s = s.all_matte();
+    assert_eq!(
+        s.objects[0].material, wall,
+        "the matte wall is left as it was"
+    );
+    assert!(s
+        .description
+        .contains("2 black or glossy surfaces made matte"));
+    let f = render_frame(&s, &c, &SensorModel::ideal(), 0);
+    let r = row(&f.ir_labels, 240);
+    // The box has depth now, and its shadow on the poster (5 mm before the wall) is attached.
+    assert!(r[200..400].iter().all(|&l| l == VALID));
+    assert!(r[168..197].iter().all(|&l| l == ATTACHED));
+    assert!(f.raw[240 * 640 + 300] < 2047);
+}
+
+#[test]
 fn kinect_sensor_widens_shadows_by_about_two_px() {
     let c = Calibration::nyu_default();
     let s = Scene::box_before_wall(1.0, 3.0);
