@@ -279,6 +279,22 @@ impl Warp {
                 _ => {}
             }
         }
+        // The IR image's borders end footprints too: a target pixel whose centre lies past the
+        // first (or last) pixel's footprint shows what the IR camera does not see.
+        for (u, outward) in [(0, LEFT_OF_FOOTPRINT), (WIDTH - 1, RIGHT_OF_FOOTPRINT)] {
+            let t = self.target[u];
+            if t == OUTSIDE || self.keys[u] == EMPTY {
+                continue;
+            }
+            let col = t as usize % WIDTH;
+            if self.footprint_side(v, u, filled[u]) == outward {
+                self.target[u] = match outward {
+                    LEFT_OF_FOOTPRINT if col + 1 < WIDTH => t + 1,
+                    RIGHT_OF_FOOTPRINT if col > 0 => t - 1,
+                    _ => OUTSIDE,
+                };
+            }
+        }
         match self.simd {
             // SAFETY: this level runs only when the CPU reported AVX-512 at construction.
             #[cfg(target_arch = "x86_64")]
@@ -749,6 +765,32 @@ mod tests {
             c.rgb.fx * q.x / q.z + c.rgb.cx,
             c.rgb.fy * q.y / q.z + c.rgb.cy,
         )
+    }
+
+    #[test]
+    fn the_ir_field_of_view_ends_where_the_border_pixels_footprints_do() {
+        // A flat wall at 81 depths from 2 to 4 m, so the IR image's borders land at every
+        // sub-pixel position in the RGB image. The RGB camera sees the wall where the IR camera
+        // does at a pixel whose centre lies within the IR image's outer edges, columns −0.5 and
+        // 639.5: from ceil(x(−0.5)) to floor(x(639.5)), and nothing outside.
+        let c = Calibration::nyu_default();
+        let mut classifier = Classifier::new(&c);
+        let mut out = Classified::default();
+        let mut wrong = Vec::new();
+        for k in 0..81 {
+            let raw = raw_at(&c, 2.0 + 0.025 * k as f64);
+            classifier.classify(&vec![raw; PIXELS], &mut out);
+            let (left, y) = rgb_xy(&c, -0.5, 240.0, raw);
+            let (right, _) = rgb_xy(&c, 639.5, 240.0, raw);
+            let row = &out.rgb_labels[y.round() as usize * WIDTH..][..WIDTH];
+            let first = row.iter().position(|&l| l == VALID);
+            let last = row.iter().rposition(|&l| l == VALID);
+            let want = (left.ceil() as usize, right.floor() as usize);
+            if (first, last) != (Some(want.0), Some(want.1)) {
+                wrong.push(format!("raw {raw}: {first:?}..={last:?}, want {want:?}"));
+            }
+        }
+        assert!(wrong.is_empty(), "{wrong:?}");
     }
 
     #[test]
