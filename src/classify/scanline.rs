@@ -730,6 +730,9 @@ fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, rows: Rows, label
             // hole beside a thin occluder lies where the projector lit the background (that
             // rod's shadow is farther left): something else, a black rod say, OTHER.
             if width + SWALLOWED_GAP_SLACK < w {
+                if cut_by_thin_occluder(p, raw, h) {
+                    set(labels, raw, h.start, h.end, DETACHED);
+                }
                 return;
             }
             DETACHED
@@ -738,6 +741,25 @@ fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, rows: Rows, label
         };
         set(labels, raw, h.start, h.end, code);
     }
+}
+
+/// True when the hole `h`, left of a thin occluder, is the left part of a farther object's
+/// attached shadow on the background that the occluder, standing in it, cuts off: that object
+/// (Z) lies right of the hole after the occluder, and its shadow on the background (eq. 3
+/// against Sa) reaches back over the occluder to `h`. Cut off from Z, the part is detached.
+fn cut_by_thin_occluder(p: &ScanParams, raw: &[u16], h: Run) -> bool {
+    let n = raw.len();
+    let end = h.end + raw[h.end..].iter().take_while(|&&r| r != NO_DEPTH).count();
+    let next = end + raw[end..].iter().take_while(|&&r| r == NO_DEPTH).count();
+    if h.start == 0 || end == h.end || end == next || next >= n {
+        return false;
+    }
+    let background = bound_left(raw, h.start).far;
+    let z = bound_right(raw, next).near;
+    let w_z = p.disp(z) - p.disp(background);
+    w_z >= p.min_step
+        && (next - end) as f32 <= w_z + p.over
+        && h.start as f32 + w_z + WIDENING + 1.0 >= next as f32
 }
 
 /// True when the occluder starting at `sb` is narrower than its shadow's shift `w`, with the
@@ -772,10 +794,10 @@ fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> 
     let background_after = |row: &[u16], end: usize| {
         row[end] != NO_DEPTH && d_occ - p.disp(row[end]) > w - 2.0 * p.min_step
     };
-    // Or a hole that a nearer surface right of it explains as its attached shadow on the
-    // background (eq. 3, within its tolerance), but not as its shadow on the occluder (wider
-    // than that by more than the widening): had the occluder gone on behind the hole, it would
-    // show there.
+    // Or a hole that a surface right of it, nearer than the background, explains as its
+    // attached shadow on the background (eq. 3, within its tolerance), but not as its shadow on
+    // the occluder (wider than that by more than the widening, or the surface is farther than
+    // the occluder): had the occluder gone on behind the hole, it would show there.
     let shadowed_after = |row: &[u16], end: usize| {
         let next = end + row[end..].iter().take_while(|&&r| r == NO_DEPTH).count();
         row[end] == NO_DEPTH && next < row.len() && {
@@ -783,7 +805,7 @@ fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> 
             let occluder_end = d_occ.min(p.disp(row[end - 1]));
             let on_occluder = p.disp(bound_right(row, next).near) - occluder_end;
             let width = (next - end) as f32;
-            on_occluder >= p.min_step
+            on_occluder + w >= p.min_step
                 && width > on_occluder + WIDENING + 1.0
                 && width <= on_occluder + w + p.over
         }
@@ -1991,6 +2013,41 @@ mod tests {
                     "zc {zc}, row {v}: {hole:?}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn a_thin_rod_standing_in_a_farther_objects_shadow_cuts_off_a_detached_part() {
+        // A wall at 3 m; a box at 1 m from column 400 (rows 200..300) casts its attached shadow
+        // on the wall over [400 − 29.1, 400) = columns 371..399. An 8 px rod at 0.75 m, [380,
+        // 388) (rows 100..400), stands in that shadow, nearer than the box, so lit: it cuts the
+        // shadow in two (the rows above and below the box show where the rod ends). The part right of it touches the box: attached. The part left of it,
+        // [371, 380), is cut off from the box: detached. The rod's own shadow lies 43.7 px
+        // left of it, [337, 345): detached, past a lit gap.
+        let (c, p) = params();
+        let (w_box, w_rod) = (
+            c.fb() * (1.0 - 1.0 / 3.0),
+            c.fb() * (1.0 / 0.75 - 1.0 / 3.0),
+        );
+        assert!((29.0..29.2).contains(&w_box) && (43.6..43.8).contains(&w_rod));
+        let mut raw = vec![raw_at(&c, 3.0); PIXELS];
+        for v in 100..400 {
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            row[337..345].fill(NO_DEPTH);
+            row[380..388].fill(raw_at(&c, 0.75));
+            if (200..300).contains(&v) {
+                row[371..380].fill(NO_DEPTH);
+                row[388..400].fill(NO_DEPTH);
+                row[400..460].fill(raw_at(&c, 1.0));
+            }
+        }
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        for v in [201, 250, 299] {
+            let row = &labels[v * WIDTH..(v + 1) * WIDTH];
+            assert_run(row, 337..345, DETACHED);
+            assert_run(row, 371..380, DETACHED);
+            assert_run(row, 388..400, ATTACHED);
         }
     }
 
