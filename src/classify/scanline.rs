@@ -1060,7 +1060,20 @@ fn detached(
         if is_fg(r) {
             let fa = u;
             let mut fb = u;
-            while fb + 1 < n && is_fg(raw[fb + 1]) {
+            // The occluder ends where the foreground does, or where a second surface before the
+            // background (another object, a floor) takes over at a depth edge: at least three
+            // pixels of each, off the occluder's last two, so a mixed or stray pixel is neither.
+            let takes_over = |at: usize| {
+                let d = p.disp(raw[at]);
+                let off = |r: u16| (d - p.disp(r)).abs() >= 2.0 * p.min_step;
+                off(raw[at - 1])
+                    && off(raw[at - 2])
+                    && raw.get(at..at + 3).is_some_and(|next| {
+                        next.iter()
+                            .all(|&r| is_fg(r) && (p.disp(r) - d).abs() < p.min_step)
+                    })
+            };
+            while fb + 1 < n && is_fg(raw[fb + 1]) && !(fb >= fa + 2 && takes_over(fb + 1)) {
                 fb += 1;
             }
             let d_fa = p.disp(raw[fa]).max(p.disp(raw[(fa + 1).min(fb)]));
@@ -1710,6 +1723,29 @@ mod tests {
             "{:?}",
             &l[fa - w - 1..=fb - w + 1]
         );
+    }
+
+    #[test]
+    fn detached_shadow_of_a_rod_with_a_farther_box_touching_its_right_side() {
+        // A 10 px rod at 1.5 m, [300, 310), before a wall at 3 m: shift f·b·(1/1.5 − 1/3) =
+        // 14.6 px, so its shadow [286, 296) is detached. A box at 2 m touches the rod's right
+        // side, [310, 400) (its own shadow, 7.3 px, falls behind the rod). The box is nearer
+        // than the wall too, but it is not the rod: eq. (5) measures the rod's right edge, 309,
+        // with or without a mixed pixel between the two, and a stray value inside the rod is no
+        // such edge.
+        let (c, _) = params();
+        let w = c.fb() * (1.0 / 1.5 - 1.0 / 3.0);
+        assert!((14.5..14.7).contains(&w));
+        for (at, z) in [(None, 0.0), (Some(310), 1.75), (Some(305), 2.2)] {
+            let mut row = vec![raw_at(&c, 3.0); WIDTH];
+            row[286..296].fill(NO_DEPTH);
+            row[300..310].fill(raw_at(&c, 1.5));
+            row[310..400].fill(raw_at(&c, 2.0));
+            if let Some(at) = at {
+                row[at] = raw_at(&c, z);
+            }
+            assert_run(&run(&row), 286..296, DETACHED);
+        }
     }
 
     #[test]
