@@ -1005,6 +1005,9 @@ fn detached(
     // disp(r) > d_bg + min_step  ⇔  r < fg_below (disparity falls as raw grows); holes (2047)
     // are never below it.
     let fg_below = p.den - (d_bg + p.min_step) / p.k;
+    // Raw steps this much under 2·min_step of disparity cannot reach it (one unit of margin
+    // against rounding), so they end no occluder below.
+    let edge_raw = ((2.0 * p.min_step / p.k) as u32).saturating_sub(1);
     let is_fg = |r: u16| f32::from(r) < fg_below;
     let mut u = h.end;
     let mut gap_holes = 0;
@@ -1064,6 +1067,10 @@ fn detached(
             // background (another object, a floor) takes over at a depth edge: at least three
             // pixels of each, off the occluder's last two, so a mixed or stray pixel is neither.
             let takes_over = |at: usize| {
+                // Most steps inside an occluder are far under the edge: an integer test first.
+                if i32::from(raw[at]).abs_diff(i32::from(raw[at - 1])) < edge_raw {
+                    return false;
+                }
                 let d = p.disp(raw[at]);
                 let off = |r: u16| (d - p.disp(r)).abs() >= 2.0 * p.min_step;
                 off(raw[at - 1])
