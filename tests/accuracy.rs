@@ -155,6 +155,50 @@ fn detached_shadow_whose_left_end_hides_behind_a_nearer_rod() {
 }
 
 #[test]
+fn thin_rod_in_a_nearer_boards_shadow_keeps_its_alignment_strip() {
+    // A wall at 3 m; a board 1 cm thick at 1 m whose left edge is at IR column 400 (x = 0.149 m),
+    // rows 151..325; its attached shadow on the wall spans 400 − f·b·(1 − 1/3) = 370.9 to 400. A
+    // 4 px rod at 1.5 m, columns 374..377 (x = 0.1608 m, r = 5.15 mm), stands in that shadow,
+    // lit: the board's shadow on the rod's plane would start only at 400 − 14.6 = 385.4. So the
+    // hole right of the rod, 378..398, is the board's shadow on the wall, and the RGB camera,
+    // 2.5 cm to the right, sees f_rgb·0.025·(1/1.5 − 1/3) = 4.3 px of wall right of the rod that
+    // the IR camera cannot: an alignment strip, which the simulator's visibility test labels.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::rod_before_wall(0.1608, 1.5, 0.00515, 3.0);
+    scene.push(
+        "board",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(0.149 + 0.05, 0.0, 1.005),
+            half: umbra::synth::V3::new(0.05, 0.15, 0.005),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::matte([0.7, 0.2, 0.15]),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 5);
+    let out = classify(&calib, &frame);
+    let (mut truth, mut hit) = (0, 0);
+    for v in 200..300 {
+        let ir = &frame.ir_labels[v * WIDTH..(v + 1) * WIDTH];
+        assert!(
+            ir[378..399].iter().all(|&l| l == ATTACHED),
+            "row {v}: the scene has the board's shadow right of the rod"
+        );
+        let (t, p) = (&frame.rgb_labels[v * WIDTH..], &out.rgb_labels[v * WIDTH..]);
+        for u in 330..400 {
+            if t[u] == ALIGNMENT {
+                truth += 1;
+                hit += usize::from(p[u] == ALIGNMENT);
+            }
+        }
+    }
+    assert!(truth >= 300, "the scene has the strip: {truth} px");
+    assert!(
+        hit * 4 >= truth * 3,
+        "{hit} of {truth} alignment pixels found"
+    );
+}
+
+#[test]
 fn detached_shadow_running_off_the_left_border() {
     // The 2 cm rod of the test above at x = −0.4857 m: columns cx + fx·(−0.4857 ± 0.01) =
     // 24.2..35.8, its detached shadow 29.1 px further left, −4.9..6.7. Only its right part shows,

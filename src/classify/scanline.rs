@@ -532,6 +532,8 @@ fn classify_bounded(
         label_attached(p, raw, h, w, rows, labels);
         if labels[h.start] == OTHER {
             hidden_background(p, raw, h, sa, sb, above, rows, labels, filled);
+        } else if let Some(bg) = behind_thin_sa(p, raw, h, sa, sb, w, above) {
+            place(filled, raw, h, bg);
         }
         beyond_range(raw, h, range, above, prev_labels, labels);
         return;
@@ -675,6 +677,45 @@ fn hidden_background(
         }
     }
 }
+
+/// The background an attached shadow lies on when it cannot lie on Sa: wider than Sb's shadow
+/// on Sa by more than the widening, with Sa a thin object standing clear of its surroundings
+/// (a hole or a farther surface left of it within [`THIN_SA`] pixels). The background is the
+/// farthest of the last valid pixels above the hole's columns, if Sb's shadow on it fits the
+/// hole (eq. 3). The warp then sees the depth edge at Sa and opens its alignment shadow.
+#[allow(clippy::too_many_arguments)]
+fn behind_thin_sa(
+    p: &ScanParams,
+    raw: &[u16],
+    h: Run,
+    sa: Bound,
+    sb: Bound,
+    w: f32,
+    above: &[u16],
+) -> Option<u16> {
+    let width = (h.end - h.start) as f32;
+    if width <= w + WIDENING + 1.0 {
+        return None;
+    }
+    let d_sa = p.disp(sa.edge);
+    let run = raw[..h.start]
+        .iter()
+        .rev()
+        .take(THIN_SA + 1)
+        .take_while(|&&r| r != NO_DEPTH && (p.disp(r) - d_sa).abs() < p.min_step)
+        .count();
+    let left = h.start.checked_sub(run + 1).map(|i| raw[i])?;
+    let clear = left == NO_DEPTH || d_sa - p.disp(left) >= p.min_step;
+    if run > THIN_SA || !clear {
+        return None;
+    }
+    let bg = farthest_above(above, h)?;
+    let on_bg = p.disp(sb.near) - p.disp(bg);
+    (p.disp(sa.near) - p.disp(bg) >= p.min_step && width <= on_bg + p.over).then_some(bg)
+}
+
+/// Widest object (pixels) [`behind_thin_sa`] takes for a thin one.
+const THIN_SA: usize = 24;
 
 /// How far the sensor's correlation window moves each end of a shadow beyond its geometric place
 /// (pixels; real frames: about 2.3 px in all, SPEC §1).
