@@ -994,17 +994,20 @@ fn beyond_range(
     if k < 4 {
         return;
     }
-    // Raw units per pixel; a long baseline keeps the 1/8-px quantisation noise small.
-    let slope = (f32::from(raw[a]) - f32::from(raw[a - k])) / k as f32;
+    // Raw units per pixel; a long baseline keeps the 1/8-px quantisation noise small, and pairs
+    // of pixels at both ends halve the raw noise (the extrapolation starts between the pair).
+    let pair = |i: usize| f32::from(raw[i]) + f32::from(raw[i + 1]);
+    let slope = (pair(a - 1) - pair(a - k)) / (2 * (k - 1)) as f32;
     if slope <= 0.05 {
         return; // level or approaching: it cannot leave the range inside the hole
     }
+    let base = 0.5 * pair(a - 1) + 0.5 * slope;
     // `far` is the frame's noisiest far value, so the surface leaves the range a little before
     // it: within NEAR_LIMIT of it, a pixel under one the row above left OTHER (the same surface
     // out of range there, not a shadow) is out of range too.
     const NEAR_LIMIT: f32 = 3.0;
     for (i, l) in labels[h.start..h.end].iter_mut().enumerate() {
-        let at = f32::from(raw[a]) + slope * (i + 1) as f32;
+        let at = base + slope * (i + 1) as f32;
         let out = at > f32::from(far) + 0.5
             || (at > f32::from(limit) + 0.5 && above.get(h.start + i) == Some(&NO_DEPTH))
             || (at > f32::from(far) - NEAR_LIMIT && prev_labels.get(h.start + i) == Some(&OTHER));
@@ -1856,6 +1859,29 @@ mod tests {
             *r = NO_DEPTH; // 50 px left of the rod: not where its shadow (29 px) falls
         }
         assert!(run(&row)[250..256].iter().all(|&x| x == OTHER));
+    }
+
+    #[test]
+    fn a_noisy_pixel_at_the_farthest_walls_edge_does_not_send_its_shadow_out_of_range() {
+        // The box of `attached_shadow_of_box_before_wall` (1 m, wall at 3 m, shadow [271, 300)),
+        // on a wall that is the frame's farthest surface, with the pixel left of the shadow one
+        // raw unit farther in every row (so the frame's farthest value is that pixel's). From
+        // that pixel alone, the wall recedes at 1/16 unit a pixel and leaves the range 8 px into
+        // the shadow; pairs of pixels at both ends of the baseline see it level.
+        let (c, p) = params();
+        let r = raw_at(&c, 3.0);
+        let mut raw = vec![r; PIXELS];
+        for v in 100..380 {
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            row[270] = r + 1;
+            row[271..300].fill(NO_DEPTH);
+            row[300..400].fill(raw_at(&c, 1.0));
+        }
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        for v in [101, 240, 379] {
+            assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], 271..300, ATTACHED);
+        }
     }
 
     #[test]
