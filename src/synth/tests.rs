@@ -203,11 +203,9 @@ fn rgb_view_has_alignment_strip_right_of_box() {
     }
 }
 
-#[test]
-fn shadows_on_black_or_out_of_range_surfaces_are_other() {
-    let c = Calibration::nyu_default();
-    // A black poster on the wall where the box's shadow falls (wall x ∈ [−0.75, −0.6] at 3 m).
-    let mut s = Scene::box_before_wall(1.0, 3.0);
+/// A black poster on the wall at 3 m where the box of [`Scene::box_before_wall`] casts its
+/// shadow (wall x ∈ [−1.0, −0.4]).
+fn push_black_poster(s: &mut Scene) {
     s.push(
         "poster",
         Shape::Box {
@@ -217,6 +215,14 @@ fn shadows_on_black_or_out_of_range_surfaces_are_other() {
         },
         Material::black(),
     );
+}
+
+#[test]
+fn shadows_on_black_or_out_of_range_surfaces_are_other() {
+    let c = Calibration::nyu_default();
+    // A black poster on the wall where the box's shadow falls (wall x ∈ [−0.75, −0.6] at 3 m).
+    let mut s = Scene::box_before_wall(1.0, 3.0);
+    push_black_poster(&mut s);
     let f = render_frame(&s, &c, &SensorModel::ideal(), 0);
     let r = row(&f.ir_labels, 240);
     assert!(cols(r, ATTACHED).is_empty() && cols(r, DETACHED).is_empty());
@@ -249,15 +255,7 @@ fn all_matte_makes_black_and_glossy_surfaces_measurable_and_keeps_the_rest() {
     // The black poster where the box's shadow falls, and a glossy box, as above.
     let mut s = Scene::box_before_wall(1.0, 3.0);
     s.objects[1].material = Material::glossy([0.5, 0.5, 0.5]);
-    s.push(
-        "poster",
-        Shape::Box {
-            centre: V3::new(-0.7, 0.0, 2.99),
-            half: V3::new(0.3, 0.6, 0.005),
-            yaw: 0.0,
-        },
-        Material::black(),
-    );
+    push_black_poster(&mut s);
     let wall = s.objects[0].material;
     let s = s.all_matte();
     assert_eq!(
