@@ -14,6 +14,7 @@
 //! projection pass per row, then one z-test per source pixel; depth edges are rare, so the gap
 //! handling costs nothing on most pixels.
 
+use super::depthless::dist;
 use crate::calib::Calibration;
 use crate::labels::{ALIGNMENT, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
 
@@ -278,6 +279,17 @@ impl Warp {
                 LEFT_OF_FOOTPRINT if !rising && col + 1 < WIDTH => self.target[near] = t + 1,
                 _ => {}
             }
+            // The far pixel beyond a rising edge opens the alignment gap: where its nearest
+            // target's centre lies left of its footprint, that target shows the gap.
+            if rising {
+                let t = self.target[u + 1];
+                if t != OUTSIDE
+                    && (t as usize % WIDTH) + 1 < WIDTH
+                    && self.footprint_side(v, u + 1, filled[u + 1]) == LEFT_OF_FOOTPRINT
+                {
+                    self.target[u + 1] = t + 1;
+                }
+            }
         }
         // The IR image's borders end footprints too: a target pixel whose centre lies past the
         // first (or last) pixel's footprint shows what the IR camera does not see.
@@ -350,36 +362,33 @@ impl Warp {
         let line = t as usize / WIDTH;
         let lo = self.target_x(v, u, filled[u]) + self.half_px;
         let hi = self.target_x(v, u + 1, filled[u + 1]) - self.half_px;
-        let (mut c0, c1) = span(lo, hi, WIDTH);
+        let (mut c0, mut c1) = span(lo, hi, WIDTH);
         let base = line * WIDTH;
-        // The near surface ends at a colour edge the RGB camera sees: one pixel either way.
+        // The near surface ends at a colour edge the RGB camera sees, and where it ends tells
+        // where in pixel `u` the depth edge lies, which moves the gap's far end too.
         if let Some(colour) = colour {
-            // A pixel inside the near surface: the target of a source pixel before `u` on the
-            // same surface (a thin rod is only two or three target pixels wide).
-            let inside = (1..=2)
-                .filter_map(|k| u.checked_sub(k))
-                .take_while(|&w| {
-                    (i32::from(filled[w + 1]) - i32::from(filled[w])).abs() < self.jump_raw
-                })
-                .map(|w| self.target[w])
-                .find(|&t| {
-                    t != OUTSIDE && t as usize / WIDTH == line && (t as usize % WIDTH) + 1 < c0
-                })
-                .map(|t| t as usize % WIDTH);
-            if let (Some(inside), true) = (inside, c1 >= c0 + 2) {
-                let near = self.keys[u];
-                match edge_side(colour, base, inside, c0) {
-                    // The gap's first pixel shows the near surface.
-                    Side::Near if self.zbuf[base + c0] == EMPTY => {
-                        self.zbuf[base + c0] = near;
-                        c0 += 1;
+            if let Some((e0, e1)) = self.colour_gap(u, filled, colour, base, line, (lo, hi)) {
+                let (near, far) = (self.keys[u], self.keys[u + 1]);
+                // Pixels that show either side of this edge (or nothing yet) may change hands.
+                let ours = |k: u32| {
+                    let z = k >> (LABEL_BITS + TIE_BITS);
+                    k == EMPTY
+                        || k == GAP
+                        || z == near >> (LABEL_BITS + TIE_BITS)
+                        || z == far >> (LABEL_BITS + TIE_BITS)
+                };
+                let (from, to) = (c0.min(e0), c1.max(e1));
+                if (from..to).all(|x| ours(self.zbuf[base + x])) {
+                    for x in from..to {
+                        self.zbuf[base + x] = if x < e0 {
+                            near
+                        } else if x >= e1 {
+                            far
+                        } else {
+                            EMPTY
+                        };
                     }
-                    // The near surface's last pixel shows the background.
-                    Side::Far if self.zbuf[base + c0 - 1] == near => {
-                        self.zbuf[base + c0 - 1] = EMPTY;
-                        c0 -= 1;
-                    }
-                    _ => {}
+                    (c0, c1) = (e0, e1);
                 }
             }
         }
@@ -388,6 +397,81 @@ impl Warp {
                 self.zbuf[i] = GAP;
             }
         }
+    }
+
+    /// The alignment gap `[c0, c1)` of the depth edge after source pixel `u`, placed by colour:
+    /// the RGB camera sees the near surface end at a colour edge within two pixels of where the
+    /// warp put it (`lo`, pixel `u`'s right footprint edge at the near depth). That edge pins
+    /// where inside pixel `u` the depth edge lies, and so the far end too (`hi`, the same point at
+    /// the far depth). None when the colours do not show one clean edge.
+    fn colour_gap(
+        &self,
+        u: usize,
+        filled: &[u16],
+        colour: &[u8],
+        base: usize,
+        line: usize,
+        (lo, hi): (f32, f32),
+    ) -> Option<(usize, usize)> {
+        let (c0, c1) = span(lo, hi, WIDTH);
+        // A pixel inside the near surface: the target of a source pixel before `u` on the same
+        // surface (a thin rod is only two or three target pixels wide).
+        let inside = (1..=2)
+            .filter_map(|k| u.checked_sub(k))
+            .take_while(|&w| {
+                (i32::from(filled[w + 1]) - i32::from(filled[w])).abs() < self.jump_raw
+            })
+            .map(|w| self.target[w])
+            .find(|&t| t != OUTSIDE && t as usize / WIDTH == line && (t as usize % WIDTH) + 1 < c0)
+            .map(|t| t as usize % WIDTH)?;
+        let far_in = c1 + 1;
+        if far_in >= WIDTH || c1 < c0 + 1 {
+            return None;
+        }
+        let px = |x: usize| -> [i32; 3] {
+            let i = 3 * (base + x);
+            [colour[i].into(), colour[i + 1].into(), colour[i + 2].into()]
+        };
+        let (cn, cf) = (px(inside), px(far_in));
+        if dist(cn, cf) < EDGE_CONTRAST {
+            return None;
+        }
+        // Each pixel of the window sides with the colour it is clearly nearer; the edge is the
+        // one split that no pixel contradicts.
+        let (w0, w1) = ((c0.saturating_sub(2)).max(inside + 1), (c0 + 2).min(far_in));
+        let mut near_until = w0; // first pixel not showing the near surface
+        let mut far_from = w1; // from here on every pixel shows the far surface
+        for x in w0..w1 {
+            let p = px(x);
+            let (dn, df) = (dist(p, cn), dist(p, cf));
+            if 2 * dn < df {
+                if near_until < x {
+                    return None; // near again after a pixel that was not
+                }
+                near_until = x + 1;
+            } else if 2 * df < dn {
+                far_from = far_from.min(x);
+            }
+        }
+        if far_from < near_until {
+            return None;
+        }
+        // The first pixel showing the far surface; where pixels between the two runs are
+        // unclear (a blurred edge), the one the geometry prefers.
+        let e0 = c0.clamp(near_until, far_from);
+        // Pixel centres e0 − 1 (near) and e0 (far) bound the edge's target column at the near
+        // depth; one source column moves it by `2·half_px` target columns. Within source pixel
+        // `u` (its centre near, `u + 1`'s far) where possible.
+        let step = 2.0 * self.half_px;
+        let a = ((e0 as f32 - 1.0 - lo) / step).max(-0.5);
+        let b = ((e0 as f32 - lo) / step).min(0.5);
+        let at = if a < b {
+            0.5 * (a + b)
+        } else {
+            (e0 as f32 - 0.5 - lo) / step
+        };
+        let e1 = ceil_clamped(hi + at * step, WIDTH).max(e0);
+        Some((e0, e1))
     }
 
     /// Where the centre of the target pixel that source pixel (`u`, `v`) with raw value `raw`
@@ -523,49 +607,8 @@ fn column_terms(step: f32) -> Vec<f32> {
     (0..WIDTH).map(|u| u as f32 * step).collect()
 }
 
-/// Which side of a colour edge a boundary pixel shows.
-enum Side {
-    Near,
-    Far,
-    Unclear,
-}
-
 /// Colour contrast (sum of |ΔR|+|ΔG|+|ΔB|) two surfaces need before their edge is trusted.
 const EDGE_CONTRAST: u32 = 90;
-
-/// The two pixels around a boundary at target column `c` of the row starting at `base`, with
-/// the near surface left (`inside` shows it) and the far one right (`c + 1`): which one is
-/// misplaced, judged by colour. `Near`: pixel `c` shows the near surface; `Far`: pixel `c − 1`
-/// shows the far one.
-fn edge_side(colour: &[u8], base: usize, inside: usize, c: usize) -> Side {
-    let px = |x: usize| -> [i32; 3] {
-        let i = 3 * (base + x);
-        [colour[i].into(), colour[i + 1].into(), colour[i + 2].into()]
-    };
-    classify_boundary(px(inside), px(c - 1), px(c), px(c + 1))
-}
-
-/// `near_in` and `far_in` are pixels well inside each surface; `near_edge` is the near surface's
-/// boundary pixel, `far_edge` the far one's. Says which boundary pixel clearly matches the other
-/// surface, if one does.
-fn classify_boundary(
-    near_in: [i32; 3],
-    near_edge: [i32; 3],
-    far_edge: [i32; 3],
-    far_in: [i32; 3],
-) -> Side {
-    use super::depthless::dist;
-    if dist(near_in, far_in) < EDGE_CONTRAST {
-        return Side::Unclear;
-    }
-    if 2 * dist(far_edge, near_in) < dist(far_edge, far_in) {
-        Side::Near
-    } else if 2 * dist(near_edge, far_in) < dist(near_edge, near_in) {
-        Side::Far
-    } else {
-        Side::Unclear
-    }
-}
 
 /// Unpacks one z-buffer row into labels and registered depth (where a measured pixel won);
 /// branch-free, so it vectorises. EMPTY carries OTHER in its label bits.
