@@ -320,6 +320,8 @@ impl Warp {
             // edge is one (beyond range, black): that is OTHER, which empty pixels become.
             if rising && self.keys[u + 1] != EMPTY && ir[u + 1] != OTHER {
                 self.mark_gap(v, u, filled, colour);
+            } else if let (false, Some(colour)) = (rising, colour) {
+                self.snap_near_start(v, u, filled, colour);
             }
         }
         edges.clear();
@@ -396,6 +398,68 @@ impl Warp {
             if self.zbuf[i] == EMPTY {
                 self.zbuf[i] = GAP;
             }
+        }
+    }
+
+    /// Where a nearer surface starts after source pixel `u` (farther) of row `v`: the first
+    /// target pixels the warp gave the near surface show the far one's colour when the depth
+    /// edge lies late in pixel `u + 1`, and then take the far side's label (a projector shadow,
+    /// mostly). Only that way: an edge the colour puts earlier may be where the sensor's
+    /// correlation window swallowed the near surface's first pixels, which keep the shadow's
+    /// label in the RGB view too.
+    fn snap_near_start(&mut self, v: usize, u: usize, filled: &[u16], colour: &[u8]) {
+        let t = self.target[u + 1];
+        if t == OUTSIDE || u + 3 >= WIDTH {
+            return;
+        }
+        let (line, base) = (t as usize / WIDTH, t as usize / WIDTH * WIDTH);
+        let x = ceil_clamped(self.target_x(v, u + 1, filled[u + 1]) - self.half_px, WIDTH);
+        if x < 3 || x + 3 >= WIDTH {
+            return;
+        }
+        let depth = |k: u32| k >> (LABEL_BITS + TIE_BITS);
+        let near = self.keys[u + 1];
+        let far = self.zbuf[base + x - 1];
+        if far == EMPTY || far == GAP || depth(far) <= depth(near) {
+            return;
+        }
+        // A pixel inside the near surface, two or three source pixels on.
+        let Some(inside) = (2..=3)
+            .take_while(|&k| {
+                (i32::from(filled[u + k]) - i32::from(filled[u + k - 1])).abs() < self.jump_raw
+            })
+            .map(|k| self.target[u + k])
+            .find(|&t| t != OUTSIDE && t as usize / WIDTH == line && t as usize % WIDTH > x + 1)
+            .map(|t| t as usize % WIDTH)
+        else {
+            return;
+        };
+        let px = |x: usize| -> [i32; 3] {
+            let i = 3 * (base + x);
+            [colour[i].into(), colour[i + 1].into(), colour[i + 2].into()]
+        };
+        let (cf, cn) = (px(x - 2), px(inside));
+        if dist(cn, cf) < EDGE_CONTRAST {
+            return;
+        }
+        let clearly_far = |x: usize| {
+            let p = px(x);
+            2 * dist(p, cf) < dist(p, cn)
+        };
+        let clearly_near = |x: usize| {
+            let p = px(x);
+            2 * dist(p, cn) < dist(p, cf)
+        };
+        if !clearly_far(x - 1) {
+            return;
+        }
+        let mut e = x;
+        while e < x + 2 && e < inside && clearly_far(e) && depth(self.zbuf[base + e]) == depth(near)
+        {
+            e += 1;
+        }
+        if e > x && (e == inside || clearly_near(e)) {
+            self.zbuf[base + x..base + e].fill(far);
         }
     }
 
