@@ -497,23 +497,39 @@ impl Warp {
             [colour[i].into(), colour[i + 1].into(), colour[i + 2].into()]
         };
         let (cn, cf) = (px(inside), px(far_in));
-        if dist(cn, cf) < EDGE_CONTRAST {
+        // A near surface of one colour over five source pixels is told from the far one by a
+        // smaller contrast; a thin one's shading (a rod's bright middle) is no sample of its edge.
+        let wide = u >= 5
+            && (u - 4..u)
+                .all(|w| (i32::from(filled[w + 1]) - i32::from(filled[w])).abs() < self.jump_raw)
+            && {
+                let t = self.target[u - 4];
+                t != OUTSIDE
+                    && t as usize / WIDTH == line
+                    && dist(px(t as usize % WIDTH), cn) < SURFACE_AGREE
+            };
+        let contrast = if wide {
+            WIDE_EDGE_CONTRAST
+        } else {
+            EDGE_CONTRAST
+        };
+        if dist(cn, cf) < contrast {
             return None;
         }
-        // Each pixel of the window sides with the colour it is clearly nearer; the edge is the
-        // one split that no pixel contradicts.
+        // Each pixel of the window sides with the colour it is nearer; the edge is the one split
+        // that no pixel contradicts.
         let (w0, w1) = ((c0.saturating_sub(2)).max(inside + 1), (c0 + 2).min(far_in));
         let mut near_until = w0; // first pixel not showing the near surface
         let mut far_from = w1; // from here on every pixel shows the far surface
         for x in w0..w1 {
             let p = px(x);
             let (dn, df) = (dist(p, cn), dist(p, cf));
-            if 2 * dn < df {
+            if dn < df {
                 if near_until < x {
                     return None; // near again after a pixel that was not
                 }
                 near_until = x + 1;
-            } else if 2 * df < dn {
+            } else if df < dn {
                 far_from = far_from.min(x);
             }
         }
@@ -673,6 +689,10 @@ fn column_terms(step: f32) -> Vec<f32> {
 
 /// Colour contrast (sum of |ΔR|+|ΔG|+|ΔB|) two surfaces need before their edge is trusted.
 const EDGE_CONTRAST: u32 = 90;
+/// The same for a near surface whose colour holds over several pixels before the edge.
+const WIDE_EDGE_CONTRAST: u32 = 45;
+/// Colour distance within which two pixels are taken to show one surface's colour.
+const SURFACE_AGREE: u32 = 30;
 
 /// Unpacks one z-buffer row into labels and registered depth (where a measured pixel won);
 /// branch-free, so it vectorises. EMPTY carries OTHER in its label bits.
