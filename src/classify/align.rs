@@ -307,6 +307,23 @@ impl Warp {
                 };
             }
         }
+        // The colour reads at this row's depth edges come after the scatter; the RGB image is
+        // seldom in cache, so its lines are fetched now, while the scatter runs.
+        #[cfg(target_arch = "x86_64")]
+        if let Some(colour) = colour {
+            for &(u, _) in &edges {
+                let t = self.target[u + 1];
+                if t != OUTSIDE {
+                    let at = colour[3 * t as usize..].as_ptr();
+                    // SAFETY: a prefetch only hints the cache; `at` points into `colour`.
+                    unsafe {
+                        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+                            at.cast(),
+                        )
+                    };
+                }
+            }
+        }
         match self.simd {
             // SAFETY: this level runs only when the CPU reported AVX-512 at construction.
             #[cfg(target_arch = "x86_64")]
@@ -321,7 +338,7 @@ impl Warp {
             if rising && self.keys[u + 1] != EMPTY && ir[u + 1] != OTHER {
                 self.mark_gap(v, u, filled, colour);
             } else if let (false, Some(colour)) = (rising, colour) {
-                self.snap_near_start(v, u, filled, colour);
+                self.snap_near_start(u, filled, colour);
             }
         }
         edges.clear();
@@ -401,19 +418,20 @@ impl Warp {
         }
     }
 
-    /// Where a nearer surface starts after source pixel `u` (farther) of row `v`: the first
+    /// Where a nearer surface starts after source pixel `u` (farther) of the current row: the first
     /// target pixels the warp gave the near surface show the far one's colour when the depth
     /// edge lies late in pixel `u + 1`, and then take the far side's label (a projector shadow,
     /// mostly). Only that way: an edge the colour puts earlier may be where the sensor's
     /// correlation window swallowed the near surface's first pixels, which keep the shadow's
     /// label in the RGB view too.
-    fn snap_near_start(&mut self, v: usize, u: usize, filled: &[u16], colour: &[u8]) {
+    fn snap_near_start(&mut self, u: usize, filled: &[u16], colour: &[u8]) {
         let t = self.target[u + 1];
         if t == OUTSIDE || u + 3 >= WIDTH {
             return;
         }
-        let (line, base) = (t as usize / WIDTH, t as usize / WIDTH * WIDTH);
-        let x = ceil_clamped(self.target_x(v, u + 1, filled[u + 1]) - self.half_px, WIDTH);
+        // The near pixel's target is, after the footprint test, the first whose centre it covers.
+        let (line, x) = (t as usize / WIDTH, t as usize % WIDTH);
+        let base = line * WIDTH;
         if x < 3 || x + 3 >= WIDTH {
             return;
         }
