@@ -336,6 +336,37 @@ fn alignment_strip_starts_at_the_colour_edge_of_the_box() {
     );
 }
 
+/// The box before a wall, moved right in 17 steps of 0.1 mm (a sixth of an IR pixel at 1 m) so
+/// its edges fall at every sub-pixel position, rendered with `sensor`: over the rows where
+/// `read` finds something in the ground truth, how many rows it finds the same in the labels
+/// classified with the RGB image, and without it.
+fn box_at_sub_pixel_offsets<T: PartialEq>(
+    sensor: SensorModel,
+    seed: u64,
+    read: impl Fn(&[u8], usize) -> Option<T>,
+) -> (usize, usize, usize) {
+    let calib = Calibration::nyu_default();
+    let (mut rows, mut exact_rgb, mut exact_depth) = (0, 0, 0);
+    for k in 0..17 {
+        let mut scene = Scene::box_before_wall(1.0, 3.0);
+        if let umbra::synth::Shape::Box { centre, .. } = &mut scene.objects[1].shape {
+            centre.x += 1e-4 * k as f64;
+        }
+        let frame = render_frame(&scene, &calib, &sensor, seed + k);
+        let (depth_only, with_rgb) = (classify(&calib, &frame), classify_rgb(&calib, &frame));
+        for v in 0..HEIGHT {
+            let truth = read(&frame.rgb_labels, v);
+            if truth.is_none() {
+                continue; // rows above and below the box
+            }
+            rows += 1;
+            exact_rgb += usize::from(read(&with_rgb.rgb_labels, v) == truth);
+            exact_depth += usize::from(read(&depth_only.rgb_labels, v) == truth);
+        }
+    }
+    (rows, exact_rgb, exact_depth)
+}
+
 #[test]
 fn alignment_strip_ends_where_the_ir_camera_sees_past_the_box() {
     // The box's right front edge falls at 17 sub-pixel positions of its last IR pixel (the box
@@ -344,29 +375,13 @@ fn alignment_strip_ends_where_the_ir_camera_sees_past_the_box() {
     // its start. Depth alone knows the edge only to within its IR pixel, so it misplaces that
     // end in about a quarter of the rows; the colour edge says where inside the pixel the box
     // ends, and so where the strip does.
-    let calib = Calibration::nyu_default();
-    let (mut rows, mut exact_rgb, mut exact_depth) = (0, 0, 0);
-    for k in 0..17 {
-        let mut scene = Scene::box_before_wall(1.0, 3.0);
-        if let umbra::synth::Shape::Box { centre, .. } = &mut scene.objects[1].shape {
-            centre.x += 1e-4 * k as f64;
-        }
-        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 200 + k);
-        let (depth_only, with_rgb) = (classify(&calib, &frame), classify_rgb(&calib, &frame));
-        let strip = |labels: &[u8], v: usize| {
-            let row = &labels[v * WIDTH..(v + 1) * WIDTH];
-            let start = (380..WIDTH).find(|&x| row[x] == ALIGNMENT)?;
-            Some((start, (start..WIDTH).find(|&x| row[x] != ALIGNMENT)?))
-        };
-        for v in 0..HEIGHT {
-            let Some(truth) = strip(&frame.rgb_labels, v) else {
-                continue; // rows above and below the box
-            };
-            rows += 1;
-            exact_rgb += usize::from(strip(&with_rgb.rgb_labels, v) == Some(truth));
-            exact_depth += usize::from(strip(&depth_only.rgb_labels, v) == Some(truth));
-        }
-    }
+    let strip = |labels: &[u8], v: usize| {
+        let row = &labels[v * WIDTH..(v + 1) * WIDTH];
+        let start = (380..WIDTH).find(|&x| row[x] == ALIGNMENT)?;
+        Some((start, (start..WIDTH).find(|&x| row[x] != ALIGNMENT)?))
+    };
+    let (rows, exact_rgb, exact_depth) =
+        box_at_sub_pixel_offsets(SensorModel::kinect(), 200, strip);
     assert!(rows > 17 * 250, "{rows} rows cross the box");
     // Measured: 87.6 % (depth alone 28.8 %; the colour edge fixing only the start, 51.6 %).
     assert!(
@@ -427,29 +442,12 @@ fn attached_shadow_in_the_rgb_view_ends_at_the_colour_edge_of_the_box() {
     // ideal sensor so that no pixel of the box is lost to the correlation window. The RGB camera
     // sees the projector shadow on the wall up to the box's left edge; depth alone places that
     // edge only to within the IR pixel, the colour edge where the wall ends.
-    let calib = Calibration::nyu_default();
-    let (mut rows, mut exact_rgb, mut exact_depth) = (0, 0, 0);
-    for k in 0..17 {
-        let mut scene = Scene::box_before_wall(1.0, 3.0);
-        if let umbra::synth::Shape::Box { centre, .. } = &mut scene.objects[1].shape {
-            centre.x += 1e-4 * k as f64;
-        }
-        let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 300 + k);
-        let (depth_only, with_rgb) = (classify(&calib, &frame), classify_rgb(&calib, &frame));
-        let end = |labels: &[u8], v: usize| {
-            let row = &labels[v * WIDTH..(v + 1) * WIDTH];
-            let start = row.iter().position(|&l| l == ATTACHED)?;
-            (start..WIDTH).find(|&x| row[x] != ATTACHED)
-        };
-        for v in 0..HEIGHT {
-            let Some(truth) = end(&frame.rgb_labels, v) else {
-                continue; // rows above and below the box
-            };
-            rows += 1;
-            exact_rgb += usize::from(end(&with_rgb.rgb_labels, v) == Some(truth));
-            exact_depth += usize::from(end(&depth_only.rgb_labels, v) == Some(truth));
-        }
-    }
+    let end = |labels: &[u8], v: usize| {
+        let row = &labels[v * WIDTH..(v + 1) * WIDTH];
+        let start = row.iter().position(|&l| l == ATTACHED)?;
+        (start..WIDTH).find(|&x| row[x] != ATTACHED)
+    };
+    let (rows, exact_rgb, exact_depth) = box_at_sub_pixel_offsets(SensorModel::ideal(), 300, end);
     assert!(rows > 17 * 250, "{rows} rows cross the box");
     // Measured: 4420 of 4420 (depth alone, and before the colour edge was read here: 3120).
     assert!(

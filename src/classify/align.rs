@@ -386,15 +386,14 @@ impl Warp {
         // The near surface ends at a colour edge the RGB camera sees, and where it ends tells
         // where in pixel `u` the depth edge lies, which moves the gap's far end too.
         if let Some(colour) = colour {
-            if let Some((e0, e1)) = self.colour_gap(u, filled, colour, base, line, (lo, hi)) {
+            if let Some((e0, e1)) = self.colour_gap(u, filled, colour, line, (lo, hi), (c0, c1)) {
                 let (near, far) = (self.keys[u], self.keys[u + 1]);
                 // Pixels that show either side of this edge (or nothing yet) may change hands.
                 let ours = |k: u32| {
-                    let z = k >> (LABEL_BITS + TIE_BITS);
                     k == EMPTY
                         || k == GAP
-                        || z == near >> (LABEL_BITS + TIE_BITS)
-                        || z == far >> (LABEL_BITS + TIE_BITS)
+                        || key_depth(k) == key_depth(near)
+                        || key_depth(k) == key_depth(far)
                 };
                 let (from, to) = (c0.min(e0), c1.max(e1));
                 if (from..to).all(|x| ours(self.zbuf[base + x])) {
@@ -435,27 +434,21 @@ impl Warp {
         if x < 3 || x + 3 >= WIDTH {
             return;
         }
-        let depth = |k: u32| k >> (LABEL_BITS + TIE_BITS);
         let near = self.keys[u + 1];
         let far = self.zbuf[base + x - 1];
-        if far == EMPTY || far == GAP || depth(far) <= depth(near) {
+        if far == EMPTY || far == GAP || key_depth(far) <= key_depth(near) {
             return;
         }
         // A pixel inside the near surface, two or three source pixels on.
         let Some(inside) = (2..=3)
-            .take_while(|&k| {
-                (i32::from(filled[u + k]) - i32::from(filled[u + k - 1])).abs() < self.jump_raw
-            })
+            .take_while(|&k| self.same_surface(filled, u + k - 1))
             .map(|k| self.target[u + k])
             .find(|&t| t != OUTSIDE && t as usize / WIDTH == line && t as usize % WIDTH > x + 1)
             .map(|t| t as usize % WIDTH)
         else {
             return;
         };
-        let px = |x: usize| -> [i32; 3] {
-            let i = 3 * (base + x);
-            [colour[i].into(), colour[i + 1].into(), colour[i + 2].into()]
-        };
+        let px = |x: usize| colour_at(colour, base + x);
         let (cf, cn) = (px(x - 2), px(inside));
         if dist(cn, cf) < EDGE_CONTRAST {
             return;
@@ -472,7 +465,10 @@ impl Warp {
             return;
         }
         let mut e = x;
-        while e < x + 2 && e < inside && clearly_far(e) && depth(self.zbuf[base + e]) == depth(near)
+        while e < x + 2
+            && e < inside
+            && clearly_far(e)
+            && key_depth(self.zbuf[base + e]) == key_depth(near)
         {
             e += 1;
         }
@@ -481,9 +477,15 @@ impl Warp {
         }
     }
 
-    /// The alignment gap `[c0, c1)` of the depth edge after source pixel `u`, placed by colour:
-    /// the RGB camera sees the near surface end at a colour edge within two pixels of where the
-    /// warp put it (`lo`, pixel `u`'s right footprint edge at the near depth). That edge pins
+    /// Source pixels `w` and `w + 1` of the current row lie on one surface (no depth jump).
+    fn same_surface(&self, filled: &[u16], w: usize) -> bool {
+        (i32::from(filled[w + 1]) - i32::from(filled[w])).abs() < self.jump_raw
+    }
+
+    /// The alignment gap of the depth edge after source pixel `u`, on target row `line`, placed
+    /// by colour (the warp put it at `[c0, c1)`, the footprint edges `lo` and `hi` rounded): the
+    /// RGB camera sees the near surface end at a colour edge within two pixels of `c0` (`lo` is
+    /// pixel `u`'s right footprint edge at the near depth). That edge pins
     /// where inside pixel `u` the depth edge lies, and so the far end too (`hi`, the same point at
     /// the far depth). None when the colours do not show one clean edge.
     fn colour_gap(
@@ -491,18 +493,15 @@ impl Warp {
         u: usize,
         filled: &[u16],
         colour: &[u8],
-        base: usize,
         line: usize,
         (lo, hi): (f32, f32),
+        (c0, c1): (usize, usize),
     ) -> Option<(usize, usize)> {
-        let (c0, c1) = span(lo, hi, WIDTH);
         // A pixel inside the near surface: the target of a source pixel before `u` on the same
         // surface (a thin rod is only two or three target pixels wide).
         let inside = (1..=2)
             .filter_map(|k| u.checked_sub(k))
-            .take_while(|&w| {
-                (i32::from(filled[w + 1]) - i32::from(filled[w])).abs() < self.jump_raw
-            })
+            .take_while(|&w| self.same_surface(filled, w))
             .map(|w| self.target[w])
             .find(|&t| t != OUTSIDE && t as usize / WIDTH == line && (t as usize % WIDTH) + 1 < c0)
             .map(|t| t as usize % WIDTH)?;
@@ -510,22 +509,16 @@ impl Warp {
         if far_in >= WIDTH || c1 < c0 + 1 {
             return None;
         }
-        let px = |x: usize| -> [i32; 3] {
-            let i = 3 * (base + x);
-            [colour[i].into(), colour[i + 1].into(), colour[i + 2].into()]
-        };
+        let px = |x: usize| colour_at(colour, line * WIDTH + x);
         let (cn, cf) = (px(inside), px(far_in));
         // A near surface of one colour over five source pixels is told from the far one by a
         // smaller contrast; a thin one's shading (a rod's bright middle) is no sample of its edge.
-        let wide = u >= 5
-            && (u - 4..u)
-                .all(|w| (i32::from(filled[w + 1]) - i32::from(filled[w])).abs() < self.jump_raw)
-            && {
-                let t = self.target[u - 4];
-                t != OUTSIDE
-                    && t as usize / WIDTH == line
-                    && dist(px(t as usize % WIDTH), cn) < SURFACE_AGREE
-            };
+        let wide = u >= 5 && (u - 4..u).all(|w| self.same_surface(filled, w)) && {
+            let t = self.target[u - 4];
+            t != OUTSIDE
+                && t as usize / WIDTH == line
+                && dist(px(t as usize % WIDTH), cn) < SURFACE_AGREE
+        };
         let contrast = if wide {
             WIDE_EDGE_CONTRAST
         } else {
@@ -703,6 +696,20 @@ unsafe fn scatter_avx512(zbuf: &mut [u32; PIXELS + 1], target: &[u32], keys: &[u
 /// `u · step` for every column `u`, in f32.
 fn column_terms(step: f32) -> Vec<f32> {
     (0..WIDTH).map(|u| u as f32 * step).collect()
+}
+
+/// The depth part of a z-buffer key.
+fn key_depth(key: u32) -> u32 {
+    key >> (LABEL_BITS + TIE_BITS)
+}
+
+/// The RGB8 pixel at index `i` of `colour`, as signed components for [`dist`].
+fn colour_at(colour: &[u8], i: usize) -> [i32; 3] {
+    [
+        colour[3 * i].into(),
+        colour[3 * i + 1].into(),
+        colour[3 * i + 2].into(),
+    ]
 }
 
 /// Colour contrast (sum of |ΔR|+|ΔG|+|ΔB|) two surfaces need before their edge is trusted.
