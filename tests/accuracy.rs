@@ -437,6 +437,54 @@ fn alignment_strip_starts_at_a_faint_colour_edge_of_a_wide_box() {
 }
 
 #[test]
+fn alignment_strip_starts_at_the_dark_silhouette_of_a_pale_rod() {
+    // A rod 1.6 cm thick at 1.9 m before a wall at 2.7 m, through the Kinect sensor model, in a
+    // colour close to the wall's: lit from beside the camera, its middle is nearly as bright as
+    // the wall, and its edge, where the surface turns away from the light, stands out more.
+    // Moved right in 12 steps of 0.3 mm (about a tenth of an IR pixel), so its edge falls at
+    // every sub-pixel position.
+    let calib = Calibration::nyu_default();
+    let start = |labels: &[u8], v: usize| {
+        let x = (300..WIDTH).find(|&x| labels[v * WIDTH + x] == ALIGNMENT)?;
+        // The strip right of the rod, not a stray pixel of the wall.
+        (labels[v * WIDTH + x + 1] == ALIGNMENT).then_some(x)
+    };
+    let (mut rows, mut exact, mut contrast) = (0, 0, Vec::new());
+    for k in 0..12 {
+        let mut scene = Scene::rod_before_wall(0.1 + 3e-4 * k as f64, 1.9, 0.008, 2.7);
+        scene.objects[1].material = umbra::synth::Material::matte([0.55, 0.55, 0.7]);
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 40 + k);
+        let out = classify_rgb(&calib, &frame);
+        for v in 100..380 {
+            let Some(first) = start(&frame.rgb_labels, v) else {
+                continue;
+            };
+            let px = |x: usize| &frame.rgb[3 * (v * WIDTH + x)..][..3];
+            let d = |a: usize, b: usize| -> u32 {
+                px(a)
+                    .iter()
+                    .zip(px(b))
+                    .map(|(&p, &q)| u32::from(p.abs_diff(q)))
+                    .sum()
+            };
+            // Middle of the rod (three pixels in) against the wall past the strip.
+            contrast.push(d(first - 3, first + 8));
+            rows += 1;
+            exact += usize::from(start(&out.rgb_labels, v) == Some(first));
+        }
+    }
+    contrast.sort_unstable();
+    let median = contrast[contrast.len() / 2];
+    assert!(median < 90, "the rod is not pale: median contrast {median}");
+    assert!(rows > 12 * 250, "{rows} rows cross the rod");
+    // Measured: 3313 of 3360 (3294 before the rod's edge pixel was read).
+    assert!(
+        100 * exact >= 97 * rows,
+        "{exact} of {rows} rows start where the wall shows past the rod"
+    );
+}
+
+#[test]
 fn attached_shadow_in_the_rgb_view_ends_at_the_colour_edge_of_the_box() {
     // The box's left front edge at 17 sub-pixel positions of its first IR pixel (as above), an
     // ideal sensor so that no pixel of the box is lost to the correlation window. The RGB camera

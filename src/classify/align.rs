@@ -510,7 +510,7 @@ impl Warp {
             return None;
         }
         let px = |x: usize| colour_at(colour, line * WIDTH + x);
-        let (cn, cf) = (px(inside), px(far_in));
+        let (mut inside, mut cn, cf) = (inside, px(inside), px(far_in));
         // A near surface of one colour over five source pixels is told from the far one by a
         // smaller contrast; a thin one's shading (a rod's bright middle) is no sample of its edge.
         let wide = u >= 5 && (u - 4..u).all(|w| self.same_surface(filled, w)) && {
@@ -525,7 +525,17 @@ impl Warp {
             EDGE_CONTRAST
         };
         if dist(cn, cf) < contrast {
-            return None;
+            // A rod is darkest at its silhouette, where its surface turns away from the light:
+            // the near pixel's own target may still show the edge clearly.
+            let t = self.target[u];
+            let last = t as usize % WIDTH;
+            if wide || t == OUTSIDE || t as usize / WIDTH != line || last <= inside || last >= c0 {
+                return None;
+            }
+            if dist(px(last), cf) < EDGE_CONTRAST {
+                return None;
+            }
+            (inside, cn) = (last, px(last));
         }
         // Each pixel of the window sides with the colour it is nearer; the edge is the one split
         // that no pixel contradicts.
