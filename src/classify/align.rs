@@ -931,8 +931,8 @@ mod tests {
         for v in 0..HEIGHT {
             for u in 0..WIDTH {
                 if out.rgb_labels[v * WIDTH + u] == ALIGNMENT {
-                    // The slit's columns in the RGB view, by hand: 518.86·((301 − 313.04)/582.62
-                    // − 0.025) + 325.58 ≈ 302.9, and 3.6 columns on for its far side.
+                    // The slit, IR columns 300.5..303.5, spans RGB columns 518.86·((300.5 −
+                    // 313.04)/582.62 − 0.025) + 325.58 = 301.4 to 304.1 at 1 m.
                     if (300..310).contains(&u) {
                         in_slit += 1;
                     } else {
