@@ -18,13 +18,15 @@ use super::depthless::dist;
 use crate::calib::Calibration;
 use crate::labels::{ALIGNMENT, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
 
-/// The z-buffer holds `depth_mm << 16 | parity << 3 | label`: the nearer surface wins one integer
-/// compare, and the label travels with its depth (one load and one store per splatted pixel).
-/// Sources at exactly the same depth (a hole filled with its neighbour's depth, say) are
-/// neighbours; the parity of `u + v` differs between any two of them and decides, so the label
-/// code never does (that biased every boundary towards VALID).
+/// The z-buffer holds `depth_mm << 16 | off_centre << 4 | parity << 3 | label`: the nearer surface
+/// wins one integer compare, and the label travels with its depth (one load and one store per
+/// splatted pixel). Sources at exactly the same depth (a hole filled with its neighbour's depth,
+/// say) are neighbours. Of those, the one whose footprint holds the target pixel's centre wins
+/// (`off_centre` 0): a shadow's edge along the rows then falls where the pixel centres say. Where
+/// neither footprint holds it, the parity of `u + v`, which differs between any two neighbours,
+/// decides, so the label code never does (that biased every boundary towards VALID).
 const LABEL_BITS: u32 = 3;
-/// Bits between label and depth; the lowest holds the tie-break parity.
+/// Bits between label and depth; the lowest two hold the tie-breaks.
 const TIE_BITS: u32 = 13;
 /// Empty: above every key, and its label bits are OTHER (nothing of the IR view lands there).
 const EMPTY: u32 = !((1 << LABEL_BITS) - 1) | OTHER as u32;
@@ -49,6 +51,8 @@ pub struct Warp {
     rgb_c: [f32; 2],
     /// Half a source pixel's width in the target, per unit of `1/nz`.
     half_px: f32,
+    /// The same vertically.
+    half_py: f32,
     /// Raw-value step above which neighbours are different surfaces (1.5 px of disparity).
     jump_raw: i32,
     /// A fixed-size array, so the splat's index clamp proves every store in bounds.
@@ -99,6 +103,7 @@ impl Warp {
             rgb_f: [calib.rgb.fx as f32, calib.rgb.fy as f32],
             rgb_c: [calib.rgb.cx as f32, calib.rgb.cy as f32],
             half_px: (0.5 * calib.rgb.fx / d.fx) as f32,
+            half_py: (0.5 * calib.rgb.fy / d.fy) as f32,
             jump_raw: (1.5 / calib.px_per_raw()).round() as i32,
             zbuf: vec![EMPTY; PIXELS + 1]
                 .into_boxed_slice()
@@ -231,6 +236,7 @@ impl Warp {
         let (cx, cy) = (self.rgb_c[0], self.rgb_c[1]);
         let (w, h) = (WIDTH as f32 - 0.5, HEIGHT as f32 - 0.5);
         let (iz_scale, iz_offset) = (self.iz_scale, self.iz_offset);
+        let (half_x, half_y) = (self.half_px, self.half_py);
         let out = self.target.iter_mut().zip(self.keys.iter_mut());
         // Bit LABEL_BITS holds the parity of u + v: the columns' parities, flipped on odd rows.
         let flip = ((v & 1) as u32) << LABEL_BITS;
@@ -249,11 +255,17 @@ impl Warp {
             // `&`, not `&&`: no short-circuit branches in the vector loop.
             let inside = valid & (x > -0.5) & (x < w) & (y > -0.5) & (y < h);
             // Lanes that are not `inside` may hold garbage here; the select below drops them.
-            let xr = round_f32(x);
-            let index = round_f32(y) * WIDTH as f32 + xr;
+            let (xr, yr) = (round_f32(x), round_f32(y));
+            let index = yr * WIDTH as f32 + xr;
+            // Of sources at one depth on one target, the one whose footprint holds the target's
+            // centre wins (footprints tile, so at most one does); parity breaks what is left.
+            let off_centre = ((x - xr).abs() > half_x) | ((y - yr).abs() > half_y);
             *t_out = if inside { round_bits(index) } else { OUTSIDE };
             let z = round_bits(clamp_fast(1000.0 * nz * nz * r, 1.0, 65000.0));
-            let key = (z << (LABEL_BITS + TIE_BITS)) | (parity ^ flip) | u32::from(label);
+            let key = (z << (LABEL_BITS + TIE_BITS))
+                | (u32::from(off_centre) << (LABEL_BITS + 1))
+                | (parity ^ flip)
+                | u32::from(label);
             *k_out = if valid { key } else { EMPTY };
         }
     }
