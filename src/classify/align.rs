@@ -564,10 +564,13 @@ impl Warp {
             // the near pixel's own target may still show the edge clearly.
             let t = self.target[u];
             let last = t as usize % WIDTH;
-            if wide || t == OUTSIDE || t as usize / WIDTH != line || last <= inside || last >= c0 {
-                return None;
-            }
-            if dist(px(last), cf) < EDGE_CONTRAST {
+            if wide
+                || t == OUTSIDE
+                || t as usize / WIDTH != line
+                || last <= inside
+                || last >= c0
+                || dist(px(last), cf) < EDGE_CONTRAST
+            {
                 return None;
             }
             (inside, cn) = (last, px(last));
