@@ -3,40 +3,69 @@
 //! Each row is decided on its own (the scanline, the colour split), and a row's evidence can be
 //! bad where its neighbours' is good: speckle inside a shadow, a noisy bound, the widening
 //! swallowing a lit gap in one row. Shadows are solids in the image, continuous from row to row,
-//! so a hole pixel whose rows above and below agree on another shadow label takes theirs. Valid
+//! so a hole pixel whose rows above and below agree on another shadow label takes theirs, and so
+//! does a run of up to [`MAX_GAP_ROWS`] rows left OTHER between the same shadow label. Valid
 //! pixels never change and no pixel becomes valid, so shadows only trade labels inside holes.
 //! No shadow label is taken away: a row that found a shadow had the evidence for it, while its
 //! neighbours may have had none (a colour edge the RGB camera sees only in some rows, say).
-//! Applied to the IR view's finished labels before the warp carries them over (about 5 µs a
+//! Applied to the IR view's finished labels before the warp carries them over (8 to 10 µs a
 //! frame; a second pass on the RGB view's labels gained 0.001 of F1 for twice that).
 
 use crate::labels::{OTHER, VALID, WIDTH};
 
-/// Settles single-row disagreements in `labels` (whole rows of [`WIDTH`]), top to bottom: a row
-/// is judged against the row above as already settled, and the row below as it is.
+/// Most rows in a run of hole pixels left OTHER that the same shadow label above and below
+/// bridges. Rows fail in short runs, not only alone: bridging up to 3 rows gained 0.004 to 0.008
+/// of complex scenes' IR any-shadow recall for 0.000 to 0.003 of precision (10 suites); 4 rows
+/// bought little more recall for more precision.
+const MAX_GAP_ROWS: usize = 3;
+
+/// Settles disagreements in `labels` (whole rows of [`WIDTH`]), top to bottom: a row is judged
+/// against the row above as already settled, and the rows below as they are.
 pub fn settle(labels: &mut [u8]) {
     const CHUNK: usize = 64;
     let rows = labels.len() / WIDTH;
     for v in 1..rows.saturating_sub(1) {
         let (head, tail) = labels.split_at_mut(v * WIDTH);
         let above = &head[(v - 1) * WIDTH..];
-        let (row, below) = tail.split_at_mut(WIDTH);
-        for ((row, above), below) in row
+        let (row, rest) = tail.split_at_mut(WIDTH);
+        let rest: &[u8] = rest;
+        for (k, ((row, above), below)) in row
             .chunks_mut(CHUNK)
             .zip(above.chunks(CHUNK))
-            .zip(below.chunks(CHUNK))
+            .zip(rest.chunks(CHUNK))
+            .enumerate()
         {
             // Most of a frame is valid: skip such stretches (branch-free test, vectorised).
             if row.iter().fold(true, |all, &m| all & (m == VALID)) {
                 continue;
             }
-            for ((l, &a), &b) in row.iter_mut().zip(above).zip(below) {
+            for (j, ((l, &a), &b)) in row.iter_mut().zip(above).zip(below).enumerate() {
                 let m = *l;
-                let settle = (a == b) & (m != a) & (a != VALID) & (a != OTHER) & (m != VALID);
-                *l = if settle { a } else { m };
+                let shadow_above = (a != VALID) & (a != OTHER);
+                let settle = (a == b) & (m != a) & shadow_above & (m != VALID);
+                *l = if settle
+                    || (m == OTHER && shadow_above && b == OTHER && bridged(rest, k * CHUNK + j, a))
+                {
+                    a
+                } else {
+                    m
+                };
             }
         }
     }
+}
+
+/// True when column `u` of the rows in `rest` (those below the current row, which is OTHER
+/// there, as is the first of them) holds OTHER for fewer than [`MAX_GAP_ROWS`] rows in all
+/// and then `label`.
+fn bridged(rest: &[u8], u: usize, label: u8) -> bool {
+    rest.iter()
+        .skip(u)
+        .step_by(WIDTH)
+        .take(MAX_GAP_ROWS)
+        .skip(1)
+        .find(|&&l| l != OTHER)
+        == Some(&label)
 }
 
 #[cfg(test)]
@@ -77,6 +106,34 @@ mod tests {
         assert_eq!(row(5), &[z, a, d, z]);
         assert_eq!(row(9), &[z, d, a, d]);
         assert_eq!(row(10), &[z, d, a, z]);
+    }
+
+    #[test]
+    fn a_run_of_up_to_three_other_rows_between_one_shadow_label_takes_it() {
+        let (a, d, o, z) = (ATTACHED, DETACHED, OTHER, VALID);
+        let mut labels = frame(&[
+            [a, d, a, a],
+            [o, o, o, o],
+            [o, o, o, o],
+            [o, d, o, o],
+            [a, z, d, o],
+            [z, z, a, o],
+            [z, z, z, a],
+        ]);
+        settle(&mut labels);
+        let column = |u: usize| {
+            (0..7)
+                .map(|v| labels[v * WIDTH + 100 + u])
+                .collect::<Vec<_>>()
+        };
+        // Three OTHER rows between ATTACHED above and below.
+        assert_eq!(column(0), [a, a, a, a, a, z, z]);
+        // Two between DETACHED and DETACHED.
+        assert_eq!(column(1), [d, d, d, d, z, z, z]);
+        // ATTACHED above, DETACHED below: no consensus.
+        assert_eq!(column(2), [a, o, o, o, d, a, z]);
+        // Five OTHER rows: too long a run to bridge.
+        assert_eq!(column(3), [a, o, o, o, o, o, a]);
     }
 
     #[test]
