@@ -8,8 +8,10 @@
 //! pixels never change and no pixel becomes valid, so shadows only trade labels inside holes.
 //! No shadow label is taken away: a row that found a shadow had the evidence for it, while its
 //! neighbours may have had none (a colour edge the RGB camera sees only in some rows, say).
-//! Applied to the IR view's finished labels before the warp carries them over (8 to 10 µs a
-//! frame; a second pass on the RGB view's labels gained 0.001 of F1 for twice that).
+//! Applied to the IR view's finished labels before the warp carries them over, and to the RGB
+//! view's after it (8 to 10 µs a frame each; the RGB pass: +0.002 to +0.006 of complex scenes'
+//! alignment F1, −0.001 to −0.002 of their RGB any-shadow precision, simple scenes unchanged or
+//! better).
 
 use crate::labels::{OTHER, VALID, WIDTH};
 
