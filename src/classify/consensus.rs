@@ -34,14 +34,17 @@ pub fn settle(labels: &mut [u8]) {
         let (row, rest) = tail.split_at_mut(WIDTH);
         let rest: &[u8] = rest;
         for (k, (row, above)) in row.chunks_mut(CHUNK).zip(above.chunks(CHUNK)).enumerate() {
-            // Most of a frame is valid: skip such stretches (branch-free test, vectorised).
+            // Most of a frame is valid, and a pixel can change only below a shadow label it does
+            // not share: skip stretches with neither (branch-free tests, vectorised).
             if row.iter().fold(true, |all, &m| all & (m == VALID)) {
                 continue;
             }
+            let open = |(&m, &a): (&u8, &u8)| (a != VALID) & (a != OTHER) & (m != a) & (m != VALID);
+            if !row.iter().zip(above).fold(false, |any, p| any | open(p)) {
+                continue;
+            }
             for (j, (l, &a)) in row.iter_mut().zip(above).enumerate() {
-                let m = *l;
-                let shadow_above = (a != VALID) & (a != OTHER);
-                if shadow_above && m != a && m != VALID && bridged(rest, k * CHUNK + j, m, a) {
+                if open((l, &a)) && bridged(rest, k * CHUNK + j, *l, a) {
                     *l = a;
                 }
             }
