@@ -10,9 +10,9 @@
 //! No shadow label is taken away: a row that found a shadow had the evidence for it, while its
 //! neighbours may have had none (a colour edge the RGB camera sees only in some rows, say).
 //! Applied to the IR view's finished labels before the warp carries them over, and to the RGB
-//! view's after it (8 to 10 µs a frame each; the RGB pass: +0.002 to +0.006 of complex scenes'
-//! alignment F1, −0.001 to −0.002 of their RGB any-shadow precision, simple scenes unchanged or
-//! better).
+//! view's after it (15 to 18 µs each on the NYU frame; the RGB pass: +0.002 to +0.006 of
+//! complex scenes' alignment F1, −0.001 to −0.002 of their RGB any-shadow precision, simple
+//! scenes unchanged or better).
 
 use crate::labels::{OTHER, VALID, WIDTH};
 
