@@ -5,8 +5,8 @@
 //! swallowing a lit gap in one row. Shadows are solids in the image, continuous from row to row,
 //! so a hole pixel whose rows above and below agree on another shadow label takes theirs, and so
 //! does a run of up to [`MAX_GAP_ROWS`] rows (left OTHER, or given the other shadow label)
-//! between the same shadow label above and below. Valid
-//! pixels never change and no pixel becomes valid, so shadows only trade labels inside holes.
+//! between the same shadow label above and below. Valid pixels never change and no pixel
+//! becomes valid, so shadows only trade labels inside holes.
 //! No shadow label is taken away: a row that found a shadow had the evidence for it, while its
 //! neighbours may have had none (a colour edge the RGB camera sees only in some rows, say).
 //! Applied to the IR view's finished labels before the warp carries them over, and to the RGB
