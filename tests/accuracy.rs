@@ -344,13 +344,10 @@ fn alignment_strip_starts_at_the_colour_edge_of_the_box() {
     // right front edge (x = 0.2 m, z = 1 m) is at f_rgb·(0.2 − 0.025)/1 + cx_rgb = 416.4 in the
     // RGB image, so the alignment strip starts at column 417 in every row. Depth places that
     // edge only to within the IR pixel it fell in; the colour edge fixes it.
-    let (first, rows, exact_rgb, exact_depth) = box_strip_starts(|rgb| rgb.to_vec());
-    assert_eq!(first, 417);
-    assert!(rows > 300, "{rows} rows cross the box");
-    assert!(
-        100 * exact_rgb >= 97 * rows,
-        "{exact_rgb} of {rows} rows start at column {first} (depth alone: {exact_depth})"
-    );
+    let s = box_strip_starts(None, 80, |rgb| rgb.to_vec());
+    assert_eq!(s.first, 417);
+    assert!(s.rows > 300, "{} rows cross the box", s.rows);
+    assert!(100 * s.exact_rgb >= 97 * s.rows, "{s:?}");
 }
 
 #[test]
@@ -359,30 +356,45 @@ fn alignment_strip_starts_at_the_colour_edge_of_the_box_through_a_soft_lens() {
     // softness of a demosaiced Bayer camera: the box's last RGB pixel is a quarter wall colour,
     // the wall's first a quarter box colour. Each still sides with the colour it is nearer, so
     // the colour edge still places the strip better than depth alone.
-    let (first, rows, exact_rgb, exact_depth) = box_strip_starts(soften);
-    assert!(rows > 300, "{rows} rows cross the box");
+    let s = box_strip_starts(None, 80, soften);
+    assert!(s.rows > 300, "{} rows cross the box", s.rows);
     // Measured: 778 of 780 (depth alone: 746).
     assert!(
-        100 * exact_rgb >= 97 * rows && exact_rgb > exact_depth,
-        "{exact_rgb} of {rows} rows start at column {first} (depth alone: {exact_depth})"
+        100 * s.exact_rgb >= 97 * s.rows && s.exact_rgb > s.exact_depth,
+        "{s:?}"
     );
 }
 
-/// The hand-computed box through the Kinect sensor model, three seeds, its RGB image passed
-/// through `camera`: the column where the simulator's alignment strip starts, the rows that start
-/// there, and how many of them the labels classified with the RGB image, and without it, start
-/// there too.
-fn box_strip_starts(camera: impl Fn(&[u8]) -> Vec<u8>) -> (usize, usize, usize, usize) {
+/// Where the alignment strips of [`box_strip_starts`] start.
+#[derive(Debug)]
+struct StripStarts {
+    /// The column where the simulator's strip starts (in the rows that cross the box).
+    first: usize,
+    /// The rows that start there.
+    rows: usize,
+    /// How many of them the labels classified with the RGB image, and without it, start there.
+    exact_rgb: usize,
+    exact_depth: usize,
+    /// The median colour distance across the box's edge (5 pixels in against 2 past it).
+    median_contrast: u32,
+}
+
+/// The hand-computed box (of `material`, if given) through the Kinect sensor model, seeds
+/// `seed0..seed0 + 3`, its RGB image passed through `camera`: where the alignment strips start.
+fn box_strip_starts(
+    material: Option<umbra::synth::Material>,
+    seed0: u64,
+    camera: impl Fn(&[u8]) -> Vec<u8>,
+) -> StripStarts {
     let calib = Calibration::nyu_default();
     let first = (calib.rgb.fx * 0.175 + calib.rgb.cx).ceil() as usize;
-    let (mut rows, mut exact_rgb, mut exact_depth) = (0, 0, 0);
-    for seed in 0..3 {
-        let mut frame = render_frame(
-            &Scene::box_before_wall(1.0, 3.0),
-            &calib,
-            &SensorModel::kinect(),
-            80 + seed,
-        );
+    let (mut rows, mut exact_rgb, mut exact_depth, mut contrast) = (0, 0, 0, Vec::new());
+    for seed in seed0..seed0 + 3 {
+        let mut scene = Scene::box_before_wall(1.0, 3.0);
+        if let Some(material) = material {
+            scene.objects[1].material = material;
+        }
+        let mut frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
         frame.rgb = camera(&frame.rgb);
         let (depth_only, with_rgb) = (classify(&calib, &frame), classify_rgb(&calib, &frame));
         let start =
@@ -392,11 +404,32 @@ fn box_strip_starts(camera: impl Fn(&[u8]) -> Vec<u8>) -> (usize, usize, usize, 
                 continue; // rows above and below the box
             }
             rows += 1;
+            contrast.push(rgb_distance(
+                &frame.rgb,
+                v * WIDTH + first - 5,
+                v * WIDTH + first + 2,
+            ));
             exact_rgb += usize::from(start(&with_rgb.rgb_labels, v) == Some(first));
             exact_depth += usize::from(start(&depth_only.rgb_labels, v) == Some(first));
         }
     }
-    (first, rows, exact_rgb, exact_depth)
+    contrast.sort_unstable();
+    StripStarts {
+        first,
+        rows,
+        exact_rgb,
+        exact_depth,
+        median_contrast: contrast.get(contrast.len() / 2).copied().unwrap_or(0),
+    }
+}
+
+/// The colour distance (sum of |ΔR|+|ΔG|+|ΔB|) between pixels `a` and `b` of an RGB8 image.
+fn rgb_distance(rgb: &[u8], a: usize, b: usize) -> u32 {
+    rgb[3 * a..3 * a + 3]
+        .iter()
+        .zip(&rgb[3 * b..3 * b + 3])
+        .map(|(&p, &q)| u32::from(p.abs_diff(q)))
+        .sum()
 }
 
 /// An RGB8 image blurred by the kernel [1 2 1]/4 along rows and then columns (edges clamped).
@@ -482,45 +515,16 @@ fn alignment_strip_starts_at_a_faint_colour_edge_of_a_wide_box() {
     // The box of the test above in a colour close to the wall's: its RGB pixels differ from the
     // wall's by a sum of |ΔR|+|ΔG|+|ΔB| of about 70, too little to trust beside a thin object's
     // shading, but the box shows one colour over many pixels before its edge.
-    let calib = Calibration::nyu_default();
-    let first = (calib.rgb.fx * 0.175 + calib.rgb.cx).ceil() as usize;
-    let (mut rows, mut exact) = (0, 0);
-    let mut contrast = Vec::new();
-    for seed in 0..3 {
-        let mut scene = Scene::box_before_wall(1.0, 3.0);
-        scene.objects[1].material = umbra::synth::Material::matte([0.75, 0.62, 0.45]);
-        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 90 + seed);
-        let out = classify_rgb(&calib, &frame);
-        let start =
-            |labels: &[u8], v: usize| (380..WIDTH).find(|&x| labels[v * WIDTH + x] == ALIGNMENT);
-        for v in 0..HEIGHT {
-            if start(&frame.rgb_labels, v) != Some(first) {
-                continue;
-            }
-            let px = |x: usize| &frame.rgb[3 * (v * WIDTH + x)..][..3];
-            contrast.push(
-                px(first - 5)
-                    .iter()
-                    .zip(px(first + 2))
-                    .map(|(&a, &b)| u32::from(a.abs_diff(b)))
-                    .sum::<u32>(),
-            );
-            rows += 1;
-            exact += usize::from(start(&out.rgb_labels, v) == Some(first));
-        }
-    }
-    contrast.sort_unstable();
-    let median = contrast[contrast.len() / 2];
+    let faint = umbra::synth::Material::matte([0.75, 0.62, 0.45]);
+    let s = box_strip_starts(Some(faint), 90, |rgb| rgb.to_vec());
     assert!(
-        median < 90,
-        "the box is not faint: median contrast {median}"
+        s.median_contrast < 90,
+        "the box is not faint: median contrast {}",
+        s.median_contrast
     );
-    assert!(rows > 300, "{rows} rows cross the box");
+    assert!(s.rows > 300, "{} rows cross the box", s.rows);
     // Measured: 777 of 780 (742 when only contrasts of 90 and more were trusted).
-    assert!(
-        100 * exact >= 98 * rows,
-        "{exact} of {rows} rows start at column {first}"
-    );
+    assert!(100 * s.exact_rgb >= 98 * s.rows, "{s:?}");
 }
 
 #[test]
@@ -546,16 +550,12 @@ fn alignment_strip_starts_at_the_dark_silhouette_of_a_pale_rod() {
             let Some(first) = start(&frame.rgb_labels, v) else {
                 continue;
             };
-            let px = |x: usize| &frame.rgb[3 * (v * WIDTH + x)..][..3];
-            let d = |a: usize, b: usize| -> u32 {
-                px(a)
-                    .iter()
-                    .zip(px(b))
-                    .map(|(&p, &q)| u32::from(p.abs_diff(q)))
-                    .sum()
-            };
             // Middle of the rod (three pixels in) against the wall past the strip.
-            contrast.push(d(first - 3, first + 8));
+            contrast.push(rgb_distance(
+                &frame.rgb,
+                v * WIDTH + first - 3,
+                v * WIDTH + first + 8,
+            ));
             rows += 1;
             exact += usize::from(start(&out.rgb_labels, v) == Some(first));
         }
@@ -726,18 +726,10 @@ fn glossy_box_of_modest_contrast_has_its_shadow_split_off() {
     // all the same, at the hand-computed f·b·(1/1 − 1/3) = 29.1 px.
     let glossy = umbra::synth::Material::glossy([0.42, 0.56, 0.82]);
     let (frame, out) = depthless_box_split(glossy, 0.0, |_| 1.0, 4);
-    let v = HEIGHT / 2;
-    let at = |u: usize| {
-        let i = 3 * (v * WIDTH + u);
-        [0, 1, 2].map(|k| i32::from(frame.rgb[i + k]))
-    };
-    // RGB columns: the wall left of the shadow, the box's face.
-    let (wall, glossy) = (at(150), at(280));
-    let contrast: i32 = (0..3).map(|k| (wall[k] - glossy[k]).abs()).sum();
-    assert!(
-        (90..120).contains(&contrast),
-        "wall {wall:?}, box {glossy:?}: contrast {contrast}"
-    );
+    // RGB columns 150 and 280 of the middle row: the wall left of the shadow, the box's face.
+    let row = HEIGHT / 2 * WIDTH;
+    let contrast = rgb_distance(&frame.rgb, row + 150, row + 280);
+    assert!((90..120).contains(&contrast), "contrast {contrast}");
     let mut c = Confusion::default();
     c.add(&frame.ir_labels, &out.ir_labels);
     at_least(&c, Some(ATTACHED), 0.9, "IR attached of a glossy box");

@@ -78,6 +78,17 @@ mod tests {
             .collect()
     }
 
+    /// The four columns of [`frame`]`(rows)` after [`settle`], top to bottom.
+    fn settled_columns(rows: &[[u8; 4]]) -> [Vec<u8>; 4] {
+        let mut labels = frame(rows);
+        settle(&mut labels);
+        std::array::from_fn(|u| {
+            (0..rows.len())
+                .map(|v| labels[v * WIDTH + 100 + u])
+                .collect()
+        })
+    }
+
     #[test]
     fn a_row_that_disagrees_with_both_neighbours_takes_their_shadow_label() {
         let (a, d, o, z) = (ATTACHED, DETACHED, OTHER, VALID);
@@ -106,7 +117,7 @@ mod tests {
     #[test]
     fn a_run_of_up_to_three_other_rows_between_one_shadow_label_takes_it() {
         let (a, d, o, z) = (ATTACHED, DETACHED, OTHER, VALID);
-        let mut labels = frame(&[
+        let column = settled_columns(&[
             [a, d, a, a],
             [o, o, o, o],
             [o, o, o, o],
@@ -115,26 +126,20 @@ mod tests {
             [z, z, a, o],
             [z, z, z, a],
         ]);
-        settle(&mut labels);
-        let column = |u: usize| {
-            (0..7)
-                .map(|v| labels[v * WIDTH + 100 + u])
-                .collect::<Vec<_>>()
-        };
         // Three OTHER rows between ATTACHED above and below.
-        assert_eq!(column(0), [a, a, a, a, a, z, z]);
+        assert_eq!(column[0], [a, a, a, a, a, z, z]);
         // Two between DETACHED and DETACHED.
-        assert_eq!(column(1), [d, d, d, d, z, z, z]);
+        assert_eq!(column[1], [d, d, d, d, z, z, z]);
         // ATTACHED above, DETACHED below: no consensus.
-        assert_eq!(column(2), [a, o, o, o, d, a, z]);
+        assert_eq!(column[2], [a, o, o, o, d, a, z]);
         // Five OTHER rows: too long a run to bridge.
-        assert_eq!(column(3), [a, o, o, o, o, o, a]);
+        assert_eq!(column[3], [a, o, o, o, o, o, a]);
     }
 
     #[test]
     fn a_short_run_of_the_other_shadow_label_between_one_label_takes_it() {
         let (a, d, o, z) = (ATTACHED, DETACHED, OTHER, VALID);
-        let mut labels = frame(&[
+        let column = settled_columns(&[
             [d, a, d, d],
             [a, d, a, a],
             [a, d, o, a],
@@ -142,19 +147,13 @@ mod tests {
             [z, z, d, a],
             [z, z, z, d],
         ]);
-        settle(&mut labels);
-        let column = |u: usize| {
-            (0..6)
-                .map(|v| labels[v * WIDTH + 100 + u])
-                .collect::<Vec<_>>()
-        };
-        assert_eq!(column(0), [d, d, d, d, z, z]);
-        assert_eq!(column(1), [a, a, a, a, z, z]);
+        assert_eq!(column[0], [d, d, d, d, z, z]);
+        assert_eq!(column[1], [a, a, a, a, z, z]);
         // A mixed run is no run: ATTACHED, OTHER, ATTACHED between DETACHED rows (only the
         // OTHER row, between two ATTACHED ones, changes).
-        assert_eq!(column(2), [d, a, a, a, d, z]);
+        assert_eq!(column[2], [d, a, a, a, d, z]);
         // Four rows of ATTACHED: too long a run.
-        assert_eq!(column(3), [d, a, a, a, a, d]);
+        assert_eq!(column[3], [d, a, a, a, a, d]);
     }
 
     #[test]
