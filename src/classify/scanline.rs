@@ -536,6 +536,7 @@ fn classify_bounded(
             place(filled, raw, h, bg);
         }
         beyond_range(raw, h, range, above, prev_labels, labels);
+        below_unmeasured(p, raw, h, rows.near(raw.len())[0], prev_labels, labels);
         return;
     }
     // A depthless occluder a pixel or two right of its shadow shares one hole with it (the lit
@@ -583,6 +584,29 @@ fn classify_bounded(
             // sees it where it stands and finds its alignment shadow; `fill` never overwrites.
             fill(filled, occluder, at);
         }
+    }
+}
+
+/// Relabels OTHER an attached hole whose columns the row above leaves an OTHER hole that starts
+/// at the same column, after the same surface (Sa). That is a region the sensor cannot measure
+/// (a far wall beyond range, seen past a partition's edge) running on down behind the occluder,
+/// which eq. (3) fits only by chance. A shadow's first row has the lit background above it (the
+/// projector is offset sideways, not up), and its other rows the shadow, labelled attached.
+fn below_unmeasured(
+    p: &ScanParams,
+    raw: &[u16],
+    h: Run,
+    up: &[u16],
+    prev_labels: &[u8],
+    labels: &mut [u8],
+) {
+    let a = h.start - 1;
+    if up.is_empty() || up[a] == NO_DEPTH || labels[h.start] != ATTACHED {
+        return;
+    }
+    let same_sa = (p.disp(up[a]) - p.disp(raw[a])).abs() < p.min_step;
+    if same_sa && prev_labels[h.start..h.end].iter().all(|&l| l == OTHER) {
+        set(labels, raw, h.start, h.end, OTHER);
     }
 }
 
@@ -2084,6 +2108,43 @@ mod tests {
         classify_frame(&p, &lower, &mut labels, &mut filled);
         let hole = &labels[250 * WIDTH + 461..250 * WIDTH + 480];
         assert!(hole[..10].iter().all(|&l| l == ATTACHED), "{hole:?}");
+    }
+
+    #[test]
+    fn hole_below_an_unmeasured_region_beside_a_partition_continues_it() {
+        // A partition at 3 m fills columns [0, 300) of every row; past its edge the room is out of
+        // range. Rows 100.. hold a box at 2 m, [308, 400). By hand its shadow on the partition
+        // would be f·b·(1/2 − 1/3) = 7.3 px, so the 8 px hole [300, 308) fits eq. (3). But the
+        // rows above show that hole as the unmeasured region, starting at the same edge.
+        let (c, p) = params();
+        let (wall, boxed) = (raw_at(&c, 3.0), raw_at(&c, 2.0));
+        let w = c.fb() * (1.0 / 2.0 - 1.0 / 3.0);
+        assert!((7.0..8.0).contains(&w), "shadow width {w}");
+        let frame = |partition_above: usize| {
+            let mut raw = vec![NO_DEPTH; PIXELS];
+            for v in 0..HEIGHT {
+                let end = if v < 100 { partition_above } else { 300 };
+                raw[v * WIDTH..v * WIDTH + end].fill(wall);
+                if v >= 100 {
+                    raw[v * WIDTH + 308..v * WIDTH + 400].fill(boxed);
+                }
+            }
+            let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+            classify_frame(&p, &raw, &mut labels, &mut filled);
+            labels
+        };
+        let labels = frame(300);
+        for v in [100, 101, 250, 479] {
+            let hole = &labels[v * WIDTH + 300..v * WIDTH + 308];
+            assert!(hole.iter().all(|&l| l == OTHER), "row {v}: {hole:?}");
+        }
+        // Where the partition reaches on past the box's left edge above it (its end hidden behind
+        // the box below), the hole has the lit partition above it: the box's attached shadow.
+        let labels = frame(320);
+        for v in [100, 101, 250, 479] {
+            let hole = &labels[v * WIDTH + 300..v * WIDTH + 308];
+            assert!(hole.iter().all(|&l| l == ATTACHED), "row {v}: {hole:?}");
+        }
     }
 
     #[test]
