@@ -345,16 +345,17 @@ impl ColourSplit {
 
     /// The hole `[a, b)` of row `v` as a candidate: wide enough, inside the image, with a
     /// measured background on its left; [`Candidate::closed`] when the same background (within
-    /// 2 px of disparity) bounds it on the right. Its pixels must be OTHER (or, in a row already
-    /// split, OTHER and ATTACHED); a hole that runs on into pixels the scanline labelled
-    /// otherwise is cut there and is open.
+    /// 2 px of disparity) bounds it on the right. Its pixels must be OTHER, or, in a `neighbour`
+    /// row, OTHER and shadow labels (the colour split's in the row above, the scanline's depthless
+    /// pairs in the row below, which the scanline finds where a lit gap shows); a hole that runs
+    /// on into pixels labelled otherwise is cut there and is open.
     fn candidate(
         &self,
         raw: &[u16],
         labels: &[u8],
         v: usize,
         (a, b): (usize, usize),
-        split_already: bool,
+        neighbour: bool,
         behind: bool,
     ) -> Option<Candidate> {
         let row = v * WIDTH;
@@ -381,7 +382,7 @@ impl ColourSplit {
         } else {
             b.min(a + 2 * self.widest(left) + OPEN_WINDOW)
         };
-        let allowed = |l: u8| l == OTHER || (split_already && (l == ATTACHED || l == DETACHED));
+        let allowed = |l: u8| l == OTHER || (neighbour && (l == ATTACHED || l == DETACHED));
         // Branch-free over the whole run first (vectorised); most runs are all allowed.
         let (rs, ls) = (&raw[row + a..row + reach], &labels[row + a..row + reach]);
         let blocked = |(&r, &l): (&u16, &u8)| (r == NO_DEPTH) & !allowed(l);
@@ -444,7 +445,7 @@ impl ColourSplit {
                         .flatten()
                 })?;
             let (a, b) = hole_span(&self.masks[w], row, at);
-            self.candidate(raw, labels, w, (a, b), w < v, c.behind)
+            self.candidate(raw, labels, w, (a, b), true, c.behind)
         };
         let (above, below) = (neighbour(v - 1)?, neighbour(v + 1)?);
         let s = self.split_memo(rgb, v, c, prefix)?;
