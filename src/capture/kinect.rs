@@ -30,12 +30,18 @@ const MAX_RGB_GAP_S: f64 = 0.1;
 /// The next RGB frame is waited for when it is due this soon after the depth frame (fraction of
 /// a frame period, 3.3 ms at 30 fps) and would be nearer to it than the last one received. The
 /// streams run at one rate with a fixed phase, so this costs latency only when that phase is
-/// small, and then at most this much; under fakenect RGB follows depth by 2 ms, and without the
-/// wait the colour split would see the previous RGB frame where a replay sees the nearest.
+/// small, and then only until the frame arrives; under fakenect RGB follows depth by 2 ms, and
+/// without the wait the colour split would see the previous RGB frame where a replay sees the
+/// nearest.
 const RGB_DUE_FRACTION: f64 = 0.1;
 /// Until two RGB frames have arrived there is no rate to tell when the next is due: the first
 /// depth frames wait this long for one.
-const FIRST_RGB_WAIT: Duration = Duration::from_millis(5);
+const FIRST_RGB_WAIT: Duration = Duration::from_millis(20);
+/// Longest wait for an RGB frame that is due: on a loaded machine it may arrive well after its
+/// device time (5 ms was too short for fakenect on two busy cores, and the colour split then saw
+/// the previous frame). Under a frame period, so the pipeline keeps pace; only this stage waits,
+/// the USB thread goes on filling its buffers.
+const MAX_RGB_WAIT_S: f64 = 0.02;
 
 /// A live (or fakenect) Kinect v1.
 pub struct KinectSource {
@@ -175,7 +181,7 @@ impl KinectSource {
             return;
         }
         let host_period = newest.unix_time - prev.unix_time;
-        let wait = (host_period * (RGB_DUE_FRACTION + 0.05)).clamp(0.0, 0.005);
+        let wait = (0.6 * host_period).clamp(0.0, MAX_RGB_WAIT_S);
         if let Ok(rgb) = self
             .stream
             .video
