@@ -587,8 +587,8 @@ fn classify_bounded(
     }
 }
 
-/// Relabels OTHER an attached hole whose columns the row above leaves an OTHER hole that starts
-/// at the same column, after the same surface (Sa). That is a region the sensor cannot measure
+/// Relabels OTHER an attached hole under an OTHER hole of the row above that starts at the same
+/// column, after the same surface (Sa). That is a region the sensor cannot measure
 /// (a far wall beyond range, seen past a partition's edge) running on down behind the occluder,
 /// which eq. (3) fits only by chance. A shadow's first row has the lit background above it (the
 /// projector is offset sideways, not up), and its other rows the shadow, labelled attached.
