@@ -71,6 +71,13 @@ impl ScanParams {
     fn disp(&self, raw: u16) -> f32 {
         self.k * (self.den - f32::from(raw))
     }
+
+    /// True for a measured pixel on the background at disparity `d_bg` (within two steps): lit
+    /// background beside or between holes.
+    #[inline]
+    fn on_background(&self, raw: u16, d_bg: f32) -> bool {
+        raw != NO_DEPTH && (self.disp(raw) - d_bg).abs() < 2.0 * self.min_step
+    }
 }
 
 /// Classifies a whole frame row by row. `filled` receives the raw values with each hole replaced
@@ -536,7 +543,7 @@ fn classify_bounded(
             place(filled, raw, h, bg);
         }
         beyond_range(raw, h, range, above, prev_labels, labels);
-        below_unmeasured(p, raw, h, rows.near(raw.len())[0], prev_labels, labels);
+        below_unmeasured(p, raw, h, near[0], prev_labels, labels);
         return;
     }
     // A depthless occluder a pixel or two right of its shadow shares one hole with it (the lit
@@ -645,9 +652,7 @@ fn split_at_island(
             .iter()
             .take_while(|&&r| r != NO_DEPTH)
             .count();
-    let lit = raw[i0..i1]
-        .iter()
-        .all(|&r| (p.disp(r) - d_bg).abs() < 2.0 * p.min_step);
+    let lit = raw[i0..i1].iter().all(|&r| p.on_background(r, d_bg));
     (lit && i1 - i0 <= p.max_island && i1 < h.end).then_some((
         Run {
             start: h.start,
@@ -936,7 +941,7 @@ fn lit_gap_before(p: &ScanParams, row: &[u16], sb: usize, d_occ: f32, w: f32) ->
     let lo = sb.saturating_sub(3).max(1);
     let hi = (sb + 4).min(row.len().saturating_sub(3));
     (lo..hi).any(|j| {
-        let lit = |r: u16| r != NO_DEPTH && (p.disp(r) - d_bg).abs() < 2.0 * p.min_step;
+        let lit = |r: u16| p.on_background(r, d_bg);
         if row[j - 1] != NO_DEPTH || !lit(row[j]) {
             return false;
         }
@@ -1233,13 +1238,12 @@ fn depthless_occluder(
         if s.start == o.start {
             // One hole through both: the widening swallowed a lit gap of a pixel or two there.
             // It must span the same shadow and occluder, on the same background.
-            let background = |r: u16| r != NO_DEPTH && (p.disp(r) - d_bg).abs() < 2.0 * p.min_step;
             return s.start > 0
                 && s.end < row.len()
                 && (s.start as f32 - h.start as f32).abs() <= WIDENING
                 && s.end.abs_diff(occluder.end) <= 1
-                && background(row[s.start - 1])
-                && background(row[s.end]);
+                && p.on_background(row[s.start - 1], d_bg)
+                && p.on_background(row[s.end], d_bg);
         }
         s.end < o.start
             && hole_pair(p, row, s, o.start, d_bg)
@@ -1264,10 +1268,7 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
         .position(|&r| r != NO_DEPTH)
         .map_or(n, |k| start + k);
     // Both holes lie on the same background: lit pixels of its depth on either side of each.
-    let background = |u: usize| {
-        let r = raw[u];
-        r != NO_DEPTH && (p.disp(r) - d_bg).abs() < 2.0 * p.min_step
-    };
+    let background = |u: usize| p.on_background(raw[u], d_bg);
     // An occluder running off the right border shows only part of its width.
     let at_border = end == n;
     if h.start == 0 || end - start < MIN_DEPTHLESS_WIDTH {
