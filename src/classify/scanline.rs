@@ -1163,8 +1163,24 @@ fn detached(
                             .all(|&r| is_fg(r) && (p.disp(r) - d).abs() < p.min_step)
                     })
             };
-            while fb + 1 < n && is_fg(raw[fb + 1]) && !(fb >= fa + 2 && takes_over(fb + 1)) {
-                fb += 1;
+            loop {
+                // Inside a wide occluder: 16 pixels at a time while each is foreground and no
+                // step reaches `edge_raw` (then no pixel can take over; branch-free, vectorised).
+                if fb + 17 <= n {
+                    let block = &raw[fb..fb + 17];
+                    let smooth = block.windows(2).fold(true, |ok, w| {
+                        ok & is_fg(w[1]) & (i32::from(w[1]).abs_diff(i32::from(w[0])) < edge_raw)
+                    });
+                    if smooth {
+                        fb += 16;
+                        continue;
+                    }
+                }
+                if fb + 1 < n && is_fg(raw[fb + 1]) && !(fb >= fa + 2 && takes_over(fb + 1)) {
+                    fb += 1;
+                } else {
+                    break;
+                }
             }
             let d_fa = p.disp(raw[fa]).max(p.disp(raw[(fa + 1).min(fb)]));
             let d_fb = p
