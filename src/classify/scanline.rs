@@ -1167,9 +1167,9 @@ fn detached(
                 // Inside a wide occluder: 16 pixels at a time while each is foreground and no
                 // step reaches `edge_raw` (then no pixel can take over; branch-free, vectorised).
                 if fb + 17 <= n {
-                    let block = &raw[fb..fb + 17];
-                    let smooth = block.windows(2).fold(true, |ok, w| {
-                        ok & is_fg(w[1]) & (i32::from(w[1]).abs_diff(i32::from(w[0])) < edge_raw)
+                    let (next, prev) = (&raw[fb + 1..fb + 17], &raw[fb..fb + 16]);
+                    let smooth = next.iter().zip(prev).fold(true, |ok, (&b, &a)| {
+                        ok & is_fg(b) & (i32::from(b).abs_diff(i32::from(a)) < edge_raw)
                     });
                     if smooth {
                         fb += 16;
