@@ -271,6 +271,15 @@ impl ColourSplit {
                     }
                 }
                 if let Some((c, (s, shift))) = split {
+                    // An open candidate is read only so far into its hole, but the occluder may
+                    // run on to the hole's end: where the RGB camera sees its right edge there
+                    // at the same shift, its depth runs on too (its alignment shadow opens).
+                    let runs_on = !c.closed
+                        && c.b < b
+                        && self
+                            .agreed_right_edge(raw, rgb, labels, v, (a, b), &mut prefix)
+                            .is_some_and(|t| t.abs_diff(shift) <= EDGE_AGREE);
+                    let end = if runs_on { b } else { c.b };
                     // An occluder narrower than its shift lets the projector light background
                     // between it and its shadow (eqs. 4–5): detached. When the lit gap is a
                     // pixel or two, the sensor's widening swallows it in most rows, and its
@@ -283,7 +292,7 @@ impl ColourSplit {
                     let s = gap.map_or(s, |x| x - c.a);
                     let code = if gap.is_some() { DETACHED } else { ATTACHED };
                     let at = self.raw_at_disp(self.disp(c.bg) + shift as f64);
-                    for u in c.a..c.b {
+                    for u in c.a..end {
                         let i = v * WIDTH + u;
                         // Islands inside keep their label; the occluder's pixels its depth.
                         if raw[i] == NO_DEPTH && u < c.a + s {
