@@ -497,6 +497,14 @@ impl ColourSplit {
         (a, b): (usize, usize),
         prefix: &mut Prefix,
     ) -> Option<usize> {
+        // Most holes this narrow are no occluder's, and are ruled out before any search. But a
+        // nearer surface left of one (a rod before a black box) may hide all but a strip of it.
+        let row = &raw[v * WIDTH..(v + 1) * WIDTH];
+        let hidden = a > 0
+            && b < WIDTH
+            && row[a - 1] != NO_DEPTH
+            && self.disp(row[a - 1]) - self.disp(row[b]) > 2.0;
+        let min_w = if hidden { MIN_HOLE } else { 2 * MIN_HOLE };
         let hole = |w: usize| {
             let row = &raw[w * WIDTH..(w + 1) * WIDTH];
             if b + SIDE > WIDTH || row[b - 1] != NO_DEPTH || row[b] == NO_DEPTH {
@@ -507,10 +515,10 @@ impl ColourSplit {
                 .iter()
                 .zip(&row[a..end])
                 .any(|(&l, &r)| r == NO_DEPTH && l != OTHER && w >= v);
-            (end == b && end - a >= 2 * MIN_HOLE && !others).then_some((a, end))
+            (end == b && end - a >= min_w && !others).then_some((a, end))
         };
-        // This row's hole is `[a, b)` itself: its width rules out most holes before any search.
-        if b - a < 2 * MIN_HOLE {
+        // This row's hole is `[a, b)` itself.
+        if b - a < min_w {
             return None;
         }
         hole(v)?;
