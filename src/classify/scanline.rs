@@ -1090,7 +1090,11 @@ fn detached(
     // Raw steps this much under 2·min_step of disparity cannot reach it (one unit of margin
     // against rounding), so they end no occluder below.
     let edge_raw = ((2.0 * p.min_step / p.k) as u32).saturating_sub(1);
-    let is_fg = |r: u16| f32::from(r) < fg_below;
+    // For whole raw values, r < fg_below  ⇔  r < ⌈fg_below⌉: one 16-bit compare (vectorises
+    // twice as wide as a float one). Capped at NO_DEPTH, which is never foreground.
+    let fg_lim = fg_below.ceil().clamp(0.0, f32::from(NO_DEPTH)) as u16;
+    let is_fg = |r: u16| r < fg_lim;
+    let edge_step = edge_raw.min(u32::from(NO_DEPTH)) as u16;
     let mut u = h.end;
     let mut gap_holes = 0;
     let mut stepped = 0;
@@ -1169,7 +1173,7 @@ fn detached(
                 if fb + 17 <= n {
                     let (next, prev) = (&raw[fb + 1..fb + 17], &raw[fb..fb + 16]);
                     let smooth = next.iter().zip(prev).fold(true, |ok, (&b, &a)| {
-                        ok & is_fg(b) & (i32::from(b).abs_diff(i32::from(a)) < edge_raw)
+                        ok & is_fg(b) & (b.abs_diff(a) < edge_step)
                     });
                     if smooth {
                         fb += 16;
