@@ -1167,10 +1167,12 @@ fn detached(
                             .all(|&r| is_fg(r) && (p.disp(r) - d).abs() < p.min_step)
                     })
             };
+            let mut next_block = fb;
             loop {
                 // Inside a wide occluder: 16 pixels at a time while each is foreground and no
-                // step reaches `edge_raw` (then no pixel can take over; branch-free, vectorised).
-                if fb + 17 <= n {
+                // step reaches `edge_raw` (then no pixel can take over; branch-free, vectorised),
+                // trying once per block.
+                if fb >= next_block && fb + 17 <= n {
                     let (next, prev) = (&raw[fb + 1..fb + 17], &raw[fb..fb + 16]);
                     let smooth = next.iter().zip(prev).fold(true, |ok, (&b, &a)| {
                         ok & is_fg(b) & (b.abs_diff(a) < edge_step)
@@ -1179,6 +1181,7 @@ fn detached(
                         fb += 16;
                         continue;
                     }
+                    next_block = fb + 16;
                 }
                 if fb + 1 < n && is_fg(raw[fb + 1]) && !(fb >= fa + 2 && takes_over(fb + 1)) {
                     fb += 1;
