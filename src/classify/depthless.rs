@@ -38,6 +38,9 @@ mod pairs;
 const MIN_HOLE: usize = 10;
 /// Background samples taken on each side of the hole (IR pixels).
 const SIDE: usize = 4;
+/// Disparity difference (pixels) within which the surfaces beside a hole are one background;
+/// past it, the nearer one is another surface.
+const SAME_SURFACE: f64 = 2.0;
 /// Colour distance (sum of |ΔR|+|ΔG|+|ΔB|) beyond which an RGB pixel is not background.
 const COLOUR_STEP: u32 = 60;
 /// Mean colour distance from the background that an occluder's RGB columns must reach: plainly
@@ -328,7 +331,7 @@ impl ColourSplit {
                 (len <= MAX_ISLAND
                     && u + len < WIDTH
                     && row[u + len] == NO_DEPTH
-                    && (self.disp(row[u]) - d_bg).abs() < 2.0)
+                    && (self.disp(row[u]) - d_bg).abs() < SAME_SURFACE)
                     .then_some(u + len)
             })
         };
@@ -381,8 +384,8 @@ impl ColourSplit {
         // straddling it: only its left part is tested.
         let right = (b + SIDE <= WIDTH).then(|| raw[row + b]);
         let step = right.map_or(0.0, |r| self.disp(left) - self.disp(r));
-        let same_right = right.is_some() && step.abs() <= 2.0;
-        if behind && !(right.is_some() && step > 2.0) {
+        let same_right = right.is_some() && step.abs() <= SAME_SURFACE;
+        if behind && !(right.is_some() && step > SAME_SURFACE) {
             return None;
         }
         // An open hole is read no further than its widest shadow and an occluder as wide.
@@ -409,7 +412,8 @@ impl ColourSplit {
             Some(r) if closed => left.max(r),
             _ => left,
         };
-        let nearer_right = right.filter(|&r| !closed && cut == b && r != NO_DEPTH && step < -2.0);
+        let nearer_right =
+            right.filter(|&r| !closed && cut == b && r != NO_DEPTH && step < -SAME_SURFACE);
         Some(Candidate {
             a,
             b: cut,
@@ -499,11 +503,11 @@ impl ColourSplit {
     ) -> Option<usize> {
         // Most holes this narrow are no occluder's, and are ruled out before any search. But a
         // nearer surface left of one (a rod before a black box) may hide all but a strip of it.
-        let row = &raw[v * WIDTH..(v + 1) * WIDTH];
+        let cur = &raw[v * WIDTH..(v + 1) * WIDTH];
         let hidden = a > 0
             && b < WIDTH
-            && row[a - 1] != NO_DEPTH
-            && self.disp(row[a - 1]) - self.disp(row[b]) > 2.0;
+            && cur[a - 1] != NO_DEPTH
+            && self.disp(cur[a - 1]) - self.disp(cur[b]) > SAME_SURFACE;
         let min_w = if hidden { MIN_HOLE } else { 2 * MIN_HOLE };
         let hole = |w: usize| {
             let row = &raw[w * WIDTH..(w + 1) * WIDTH];

@@ -12,7 +12,9 @@
 //! Holes are met left to right, so each one is tried as the occluder of the recent holes of its
 //! row: no search along the row, which keeps the many holes of a real frame cheap.
 
-use super::{ceil, dist, hole_span, rgb_at, ColourSplit, COLOUR_STEP, SIDE, SIDES_AGREE};
+use super::{
+    ceil, dist, hole_span, rgb_at, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE, SIDES_AGREE,
+};
 use crate::labels::{DETACHED, NO_DEPTH, OTHER, WIDTH};
 
 /// Narrowest shadow and occluder holes considered (pixels), as the scanline's.
@@ -20,8 +22,6 @@ const MIN_WIDTH: usize = 3;
 /// How much wider than its occluder a shadow may look: the sensor's widening (the scanline's
 /// default `attached_over_px`).
 const OVER: usize = 8;
-/// Both holes lie on one background: their sides' disparities may differ by this much (px).
-const SAME_BG: f64 = 2.0;
 /// Shifts of the rows above and below may differ by this much (pixels): the sensor's widening
 /// moves each row's shadow end by 0–3 px.
 const ROWS_AGREE: usize = 3;
@@ -105,7 +105,7 @@ impl ColourSplit {
             return None;
         }
         let (l, r) = (row[a - 1], row[b]);
-        (l != NO_DEPTH && r != NO_DEPTH && (self.disp(l) - self.disp(r)).abs() <= SAME_BG)
+        (l != NO_DEPTH && r != NO_DEPTH && (self.disp(l) - self.disp(r)).abs() <= SAME_SURFACE)
             .then(|| Closed { a, b, bg: l.max(r) })
     }
 
@@ -118,7 +118,7 @@ impl ColourSplit {
         (h.b <= o.a
             && hw + 1 >= ow
             && hw <= ow + OVER
-            && (self.disp(h.bg) - self.disp(o.bg)).abs() <= SAME_BG
+            && (self.disp(h.bg) - self.disp(o.bg)).abs() <= SAME_SURFACE
             && self.disp(h.bg) + shift as f64 <= self.max_disp)
             .then_some(shift)
     }
