@@ -60,6 +60,10 @@ const ROWS_AGREE: usize = 3;
 const EDGE_AGREE: usize = 4;
 /// Rows searched either side for a lit gap between a shadow and its occluder.
 const GAP_ROWS: usize = 3;
+/// Rows searched either side for a second row showing that gap in the same column. The
+/// widening swallows a real gap in most rows (on simulated rods it shows every 4–6 rows); a
+/// spurious valid pixel rarely has a twin within a column of it this near.
+const GAP_CONFIRM_ROWS: usize = 3 * GAP_ROWS;
 /// Pixels either side of the split searched for that lit gap.
 const GAP_NEAR: usize = 3;
 /// Narrowest open hole at the right border considered (pixels), wider than the sensor's dead band.
@@ -313,7 +317,8 @@ impl ColourSplit {
 
     /// Where the nearest row to `v` (at most [`GAP_ROWS`] away) shows a lit gap within
     /// [`GAP_NEAR`] pixels of column `x`: a valid island (at most [`MAX_ISLAND`] pixels, at the
-    /// background's depth `bg`) inside a hole. Returns the column just past the island, where the
+    /// background's depth `bg`) inside a hole, which another row within [`GAP_CONFIRM_ROWS`]
+    /// shows ending in the same column (±1). Returns the column just past the island, where the
     /// occluder starts.
     fn lit_gap_near(&self, raw: &[u16], v: usize, x: usize, bg: u16) -> Option<usize> {
         let d_bg = self.disp(bg);
@@ -335,10 +340,17 @@ impl ColourSplit {
                     .then_some(u + len)
             })
         };
-        (0..=GAP_ROWS).find_map(|k| {
+        let nearest = (0..=GAP_ROWS).find_map(|k| {
             let up = v.checked_sub(k).and_then(in_row);
             up.or_else(|| (v + k < HEIGHT).then(|| in_row(v + k)).flatten())
-        })
+        })?;
+        // A second row must show it in the same column: the sensor's spurious valid pixels
+        // inside a shadow are single and scattered, a lit gap runs down the occluder's edge.
+        let rows = v.saturating_sub(GAP_CONFIRM_ROWS)..(v + GAP_CONFIRM_ROWS + 1).min(HEIGHT);
+        let seen = rows
+            .filter(|&w| in_row(w).is_some_and(|end| end.abs_diff(nearest) <= 1))
+            .count();
+        (seen >= 2).then_some(nearest)
     }
 
     /// The widest attached shadow on a background at `raw` (pixels): its occluder at the
