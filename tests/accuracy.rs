@@ -794,6 +794,70 @@ fn a_stray_valid_pixel_beside_a_black_box_is_no_lit_gap() {
 }
 
 #[test]
+fn black_box_whose_hole_runs_on_into_a_rods_shadow_has_its_shadow_split_off() {
+    // A black box 0.2 m wide at 1 m before a wall at 3 m: IR columns 313.04 ± 582.62·0.1 =
+    // 254.8..371.3, and an attached shadow of f·b·(1/1 − 1/3) = 29.1 px left of it. Right of the
+    // box, a grey rod (radius 2 cm, axis at x = 0.1742 m, z = 1.2 m) from column
+    // 313.04 + 582.62·0.1542/1.2 = 387.9 casts its detached shadow f·b·(1/1.2 − 1/3) = 21.9 px to
+    // the left, from about column 366: behind the box's right edge. So one hole runs from the
+    // box's shadow over the box into the rod's shadow, about 160 px, with the wall on both sides.
+    // The colour split's closed reading wants the box up to the hole's end and finds the wall's
+    // colour over its last 14 px and the box's alignment strip; the hole is wider than any one
+    // shadow on that wall (f·b/0.4 − f·b/3 = 94 px), so an occluder stands in it, and it is read
+    // from the left: shadow, then box.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::box_before_wall(1.0, 3.0);
+    scene.objects[1].material = umbra::synth::Material::black();
+    if let umbra::synth::Shape::Box { half, .. } = &mut scene.objects[1].shape {
+        half.x = 0.1;
+    }
+    scene.push(
+        "rod",
+        umbra::synth::Shape::Cylinder {
+            centre: umbra::synth::V3::new(0.1742, 0.0, 1.2),
+            axis: umbra::synth::V3::new(0.0, 1.0, 0.0),
+            radius: 0.02,
+            half_len: 3.0,
+        },
+        umbra::synth::Material::matte([0.6, 0.6, 0.65]),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 4);
+    let v = HEIGHT / 2 - 40;
+    let row = &frame.raw[v * WIDTH..(v + 1) * WIDTH];
+    let hole = (150..450).filter(|&u| row[u] == 2047).collect::<Vec<_>>();
+    let (a, b) = (hole[0], hole[hole.len() - 1] + 1);
+    assert_eq!(hole.len(), b - a, "one hole: {a}..{b}");
+    assert!(
+        (a as f64 - 225.7).abs() <= 2.0 && (b as f64 - 385.4).abs() <= 2.0,
+        "{a}..{b}"
+    );
+    assert_eq!(
+        count_in_row(&frame.ir_labels, v, DETACHED),
+        (371..b)
+            .filter(|&u| frame.ir_labels[v * WIDTH + u] == DETACHED)
+            .count(),
+        "the rod's shadow is the hole's right end"
+    );
+    let w = calib.fb() * (1.0 - 1.0 / 3.0);
+    let out = classify_rgb(&calib, &frame);
+    let (mut rows, mut split) = (0, 0);
+    for y in 0..HEIGHT {
+        if count_in_row(&frame.ir_labels, y, ATTACHED) == 0 {
+            continue;
+        }
+        rows += 1;
+        let n = count_in_row(&out.ir_labels, y, ATTACHED) as f64;
+        split += usize::from((n - w).abs() <= 2.5);
+    }
+    // Measured: 290 of 292 rows; none when a closed hole was never read as open.
+    assert!(rows > 100, "the box spans {rows} rows");
+    assert!(
+        10 * split >= 9 * rows,
+        "{split} of {rows} rows split at {w:.1} px"
+    );
+}
+
+#[test]
 fn glossy_box_of_modest_contrast_has_its_shadow_split_off() {
     // The hand-computed box, glossy (no depth) and grey-blue on the pale wall: in the RGB image
     // it differs from the wall by 90 to 120 (sum of |ΔR|, |ΔG|, |ΔB|), plainly another surface

@@ -151,6 +151,8 @@ struct Candidate {
     /// The raw value of a nearer surface that ends an open hole on the right, if one does: the
     /// RGB camera sees that surface over the hole's right part, which is no occluder's colour.
     nearer_right: Option<u16>,
+    /// A closed hole read as an open one ([`ColourSplit::opened`]).
+    opened: bool,
 }
 
 impl ColourSplit {
@@ -263,6 +265,13 @@ impl ColourSplit {
                     .then(|| {
                         [false, true].into_iter().find_map(|behind| {
                             let c = self.candidate(raw, labels, v, (u, b), false, behind)?;
+                            if let Some(s) = self.agreed_split(raw, rgb, labels, v, c, &mut prefix)
+                            {
+                                return Some((c, s));
+                            }
+                            // A hole too wide for one shadow whose occluder stops short of
+                            // its end: read from the left only.
+                            let c = self.opened(c)?;
                             Some((c, self.agreed_split(raw, rgb, labels, v, c, &mut prefix)?))
                         })
                     })
@@ -432,6 +441,7 @@ impl ColourSplit {
             bg,
             closed,
             behind,
+            opened: false,
             nearer_right,
         })
     }
@@ -470,7 +480,13 @@ impl ColourSplit {
                         .flatten()
                 })?;
             let (a, b) = hole_span(&self.masks[w], row, at);
-            self.candidate(raw, labels, w, (a, b), true, c.behind)
+            let n = self.candidate(raw, labels, w, (a, b), true, c.behind)?;
+            // An opened hole's neighbours are read the same way, where they are as wide.
+            Some(if c.opened {
+                self.opened(n).unwrap_or(n)
+            } else {
+                n
+            })
         };
         let (above, below) = (neighbour(v - 1)?, neighbour(v + 1)?);
         let s = self.split_memo(rgb, v, c, prefix)?;
@@ -499,6 +515,24 @@ impl ColourSplit {
             _ => false,
         };
         (alike || straight).then_some(s)
+    }
+
+    /// The closed candidate `c` read as an open one, when it is wider than any one shadow on its
+    /// background can be (so an occluder stands in it). The closed layout wants that occluder to
+    /// fill the hole up to the background on the right, which fails where something else runs
+    /// the hole on (another object's detached shadow beside a glossy sphere, say); read as open,
+    /// only the shadow and a window of occluder after it must show.
+    fn opened(&self, c: Candidate) -> Option<Candidate> {
+        let widest = self.widest(c.bg);
+        if !c.closed || c.behind || c.b - c.a <= widest {
+            return None;
+        }
+        Some(Candidate {
+            closed: false,
+            opened: true,
+            b: c.b.min(c.a + 2 * widest + OPEN_WINDOW),
+            ..c
+        })
     }
 
     /// The shift of an occluder filling the hole `[a, b)` of row `v` up to the background on its
