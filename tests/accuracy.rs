@@ -26,6 +26,28 @@ fn count_in_row(labels: &[u8], v: usize, code: u8) -> usize {
         .count()
 }
 
+/// The hand-computed box (front face x = −0.2..0.2 m at 1 m) before a wall at 3 m, black: the
+/// sensor measures no depth on it.
+fn black_box_before_wall() -> Scene {
+    let mut scene = Scene::box_before_wall(1.0, 3.0);
+    scene.objects[1].material = umbra::synth::Material::black();
+    scene
+}
+
+/// Adds a grey vertical rod of `radius` with its axis at (`x`, ·, `z`), crossing the image.
+fn push_grey_rod(scene: &mut Scene, x: f64, z: f64, radius: f64) {
+    scene.push(
+        "rod",
+        umbra::synth::Shape::Cylinder {
+            centre: umbra::synth::V3::new(x, 0.0, z),
+            axis: umbra::synth::V3::new(0.0, 1.0, 0.0),
+            radius,
+            half_len: 3.0,
+        },
+        umbra::synth::Material::matte([0.6, 0.6, 0.65]),
+    );
+}
+
 #[test]
 fn box_one_metre_before_wall_at_three() {
     let calib = Calibration::nyu_default();
@@ -752,8 +774,7 @@ fn a_stray_valid_pixel_beside_a_black_box_is_no_lit_gap() {
     // its detached shadow; but a lit gap runs down the occluder's edge, and a stray pixel has no
     // twin in the rows near it.
     let calib = Calibration::nyu_default();
-    let mut scene = Scene::box_before_wall(1.0, 3.0);
-    scene.objects[1].material = umbra::synth::Material::black();
+    let scene = black_box_before_wall();
     let mut frame = render_frame(&scene, &calib, &SensorModel::ideal(), 4);
     // A row well inside the box, where the split holds in the rows around it without the stray
     // pixel (measured: before this check, rows 197–203 were all detached with it).
@@ -806,21 +827,11 @@ fn black_box_whose_hole_runs_on_into_a_rods_shadow_has_its_shadow_split_off() {
     // shadow on that wall (f·b/0.4 − f·b/3 = 94 px), so an occluder stands in it, and it is read
     // from the left: shadow, then box.
     let calib = Calibration::nyu_default();
-    let mut scene = Scene::box_before_wall(1.0, 3.0);
-    scene.objects[1].material = umbra::synth::Material::black();
+    let mut scene = black_box_before_wall();
     if let umbra::synth::Shape::Box { half, .. } = &mut scene.objects[1].shape {
         half.x = 0.1;
     }
-    scene.push(
-        "rod",
-        umbra::synth::Shape::Cylinder {
-            centre: umbra::synth::V3::new(0.1742, 0.0, 1.2),
-            axis: umbra::synth::V3::new(0.0, 1.0, 0.0),
-            radius: 0.02,
-            half_len: 3.0,
-        },
-        umbra::synth::Material::matte([0.6, 0.6, 0.65]),
-    );
+    push_grey_rod(&mut scene, 0.1742, 1.2, 0.02);
     let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 4);
     let v = HEIGHT / 2 - 40;
     let row = &frame.raw[v * WIDTH..(v + 1) * WIDTH];
@@ -934,8 +945,7 @@ fn black_box_split_survives_the_sensors_ragged_shadow_edge() {
     // edge does not. Nearly every row must still be split, at f·b·(1/1 − 1/3) = 29.1 px plus
     // the widening.
     let calib = Calibration::nyu_default();
-    let mut scene = Scene::box_before_wall(1.0, 3.0);
-    scene.objects[1].material = umbra::synth::Material::black();
+    let scene = black_box_before_wall();
     let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 11);
     let out = classify_rgb(&calib, &frame);
     let w = calib.fb() * (1.0 - 1.0 / 3.0);
@@ -1093,8 +1103,7 @@ fn black_box_shadow_beside_a_nearer_box_is_split_against_the_wall_right_of_it() 
     // right edge is (the RGB camera sees it f_rgb·0.025/1 m = 13 px left of where the IR camera
     // does), and with it the colour edge fixes where the box starts.
     let calib = Calibration::nyu_default();
-    let mut scene = Scene::box_before_wall(1.0, 3.0);
-    scene.objects[1].material = umbra::synth::Material::black();
+    let mut scene = black_box_before_wall();
     scene.push(
         "board",
         umbra::synth::Shape::Box {
@@ -1146,8 +1155,7 @@ fn black_box_across_the_left_border_stands_at_its_depth_in_the_rgb_view() {
     // (−0.35 m, 1.2 m), and the RGB camera 2.5 cm to the right sees wall past it in a strip of
     // f_rgb·0.025·(1/1.2 − 1/3) = 6.5 px per row, the alignment shadow.
     let calib = Calibration::nyu_default();
-    let mut scene = Scene::box_before_wall(1.0, 3.0);
-    scene.objects[1].material = umbra::synth::Material::black();
+    let mut scene = black_box_before_wall();
     if let umbra::synth::Shape::Box { centre, .. } = &mut scene.objects[1].shape {
         centre.x -= 0.55;
     }
@@ -1232,18 +1240,8 @@ fn black_box_mostly_hidden_by_a_nearer_rod_keeps_its_alignment_strip() {
     // strip of f_rgb·0.025·(1/1 − 1/3) = 8.6 px, from RGB column
     // 325.58 + 518.86·(0.2 − 0.025)/1 = 416.4 on.
     let calib = Calibration::nyu_default();
-    let mut scene = Scene::box_before_wall(1.0, 3.0);
-    scene.objects[1].material = umbra::synth::Material::black();
-    scene.push(
-        "rod",
-        umbra::synth::Shape::Cylinder {
-            centre: umbra::synth::V3::new(0.1132, 0.0, 0.7),
-            axis: umbra::synth::V3::new(0.0, 1.0, 0.0),
-            radius: 0.01,
-            half_len: 3.0,
-        },
-        umbra::synth::Material::matte([0.6, 0.6, 0.65]),
-    );
+    let mut scene = black_box_before_wall();
+    push_grey_rod(&mut scene, 0.1132, 0.7, 0.01);
     let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 4);
     let v = HEIGHT / 2;
     let row = &frame.raw[v * WIDTH..(v + 1) * WIDTH];
