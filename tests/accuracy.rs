@@ -560,6 +560,25 @@ fn alignment_strip_starts_at_a_faint_colour_edge_of_a_wide_box() {
 }
 
 #[test]
+fn alignment_strip_starts_at_the_colour_edge_of_a_box_as_bright_as_the_wall() {
+    // The box of the tests above, as bright as the wall (matte 0.80, 0.78, 0.70) but of another
+    // hue (0.72, 0.80, 0.84: bluer, less red). Its RGB pixels differ from the wall's by a sum of
+    // |ΔR|+|ΔG|+|ΔB| too small to trust even beside a wide box; what sets it apart is the hue,
+    // (R − G, B − G) = (−0.08, +0.04) against (+0.02, −0.08), which shading does not change.
+    let bluish = umbra::synth::Material::matte([0.72, 0.8, 0.84]);
+    let s = box_strip_starts(Some(bluish), 120, |rgb| rgb.to_vec());
+    assert!(
+        s.median_contrast < 45,
+        "the box is not as bright as the wall: median contrast {}",
+        s.median_contrast
+    );
+    assert!(s.rows > 300, "{} rows cross the box", s.rows);
+    // Measured: 778 of 780 (744 when colours were told apart by |ΔR|+|ΔG|+|ΔB| alone; depth
+    // alone 740).
+    assert!(100 * s.exact_rgb >= 97 * s.rows, "{s:?}");
+}
+
+#[test]
 fn alignment_strip_starts_at_the_dark_silhouette_of_a_pale_rod() {
     // A rod 1.6 cm thick at 1.9 m before a wall at 2.7 m, through the Kinect sensor model, in a
     // colour close to the wall's: lit from beside the camera, its middle is nearly as bright as

@@ -14,7 +14,6 @@
 //! projection pass per row, then one z-test per source pixel; depth edges are rare, so the gap
 //! handling costs nothing on most pixels.
 
-use super::depthless::dist;
 use crate::calib::Calibration;
 use crate::labels::{ALIGNMENT, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
 
@@ -760,7 +759,18 @@ fn colour_at(colour: &[u8], i: usize) -> [i32; 3] {
     ]
 }
 
-/// Colour contrast (sum of |ΔR|+|ΔG|+|ΔB|) two surfaces need before their edge is trusted.
+/// Colour distance for telling two surfaces apart at an edge: `|ΔR| + |ΔG| + |ΔB|`, plus twice
+/// the change of hue, `|Δ(R − G)| + |Δ(B − G)|`. Shading and texture move a surface's brightness
+/// far more than its hue, so a hue difference is the surer sign of another surface (counting it
+/// twice: RGB alignment F1 +0.005 to +0.011 on the complex scenes of eleven simulated suites,
+/// −0.0014 on the ideal-sensor one; 0.09 % of the real frame's RGB labels move, by a pixel).
+fn dist(p: [i32; 3], q: [i32; 3]) -> u32 {
+    let value: u32 = p.iter().zip(&q).map(|(a, b)| a.abs_diff(*b)).sum();
+    let hue = (p[0] - p[1]).abs_diff(q[0] - q[1]) + (p[2] - p[1]).abs_diff(q[2] - q[1]);
+    value + 2 * hue
+}
+
+/// Colour contrast (by [`dist`]) two surfaces need before their edge is trusted.
 const EDGE_CONTRAST: u32 = 90;
 /// The same for a near surface whose colour holds over several pixels before the edge.
 const WIDE_EDGE_CONTRAST: u32 = 45;
