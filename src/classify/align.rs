@@ -14,6 +14,7 @@
 //! projection pass per row, then one z-test per source pixel; depth edges are rare, so the gap
 //! handling costs nothing on most pixels.
 
+use super::depthless::hue_dist;
 use crate::calib::Calibration;
 use crate::labels::{ALIGNMENT, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
 
@@ -484,16 +485,16 @@ impl Warp {
         };
         let px = |x: usize| colour_at(colour, base + x);
         let (cf, cn) = (px(x - 2), px(inside));
-        if dist(cn, cf) < EDGE_CONTRAST {
+        if hue_dist(cn, cf) < EDGE_CONTRAST {
             return;
         }
         let clearly_far = |x: usize| {
             let p = px(x);
-            2 * dist(p, cf) < dist(p, cn)
+            2 * hue_dist(p, cf) < hue_dist(p, cn)
         };
         let clearly_near = |x: usize| {
             let p = px(x);
-            2 * dist(p, cn) < dist(p, cf)
+            2 * hue_dist(p, cn) < hue_dist(p, cf)
         };
         if !clearly_far(x - 1) {
             return;
@@ -551,14 +552,14 @@ impl Warp {
             let t = self.target[u - 4];
             t != OUTSIDE
                 && t as usize / WIDTH == line
-                && dist(px(t as usize % WIDTH), cn) < SURFACE_AGREE
+                && hue_dist(px(t as usize % WIDTH), cn) < SURFACE_AGREE
         };
         let contrast = if wide {
             WIDE_EDGE_CONTRAST
         } else {
             EDGE_CONTRAST
         };
-        if dist(cn, cf) < contrast {
+        if hue_dist(cn, cf) < contrast {
             // A rod is darkest at its silhouette, where its surface turns away from the light:
             // the near pixel's own target may still show the edge clearly.
             let t = self.target[u];
@@ -568,7 +569,7 @@ impl Warp {
                 || t as usize / WIDTH != line
                 || last <= inside
                 || last >= c0
-                || dist(px(last), cf) < EDGE_CONTRAST
+                || hue_dist(px(last), cf) < EDGE_CONTRAST
             {
                 return None;
             }
@@ -581,7 +582,7 @@ impl Warp {
         let mut far_from = w1; // from here on every pixel shows the far surface
         for x in w0..w1 {
             let p = px(x);
-            let (dn, df) = (dist(p, cn), dist(p, cf));
+            let (dn, df) = (hue_dist(p, cn), hue_dist(p, cf));
             if dn < df {
                 if near_until < x {
                     return None; // near again after a pixel that was not
@@ -750,7 +751,7 @@ fn key_depth(key: u32) -> u32 {
     key >> (LABEL_BITS + TIE_BITS)
 }
 
-/// The RGB8 pixel at index `i` of `colour`, as signed components for [`dist`].
+/// The RGB8 pixel at index `i` of `colour`, as signed components for [`hue_dist`].
 fn colour_at(colour: &[u8], i: usize) -> [i32; 3] {
     [
         colour[3 * i].into(),
@@ -759,18 +760,10 @@ fn colour_at(colour: &[u8], i: usize) -> [i32; 3] {
     ]
 }
 
-/// Colour distance for telling two surfaces apart at an edge: `|ΔR| + |ΔG| + |ΔB|`, plus twice
-/// the change of hue, `|Δ(R − G)| + |Δ(B − G)|`. Shading and texture move a surface's brightness
-/// far more than its hue, so a hue difference is the surer sign of another surface (counting it
-/// twice: RGB alignment F1 +0.005 to +0.011 on the complex scenes of eleven simulated suites,
-/// −0.0014 on the ideal-sensor one; 0.09 % of the real frame's RGB labels move, by a pixel).
-fn dist(p: [i32; 3], q: [i32; 3]) -> u32 {
-    let value: u32 = p.iter().zip(&q).map(|(a, b)| a.abs_diff(*b)).sum();
-    let hue = (p[0] - p[1]).abs_diff(q[0] - q[1]) + (p[2] - p[1]).abs_diff(q[2] - q[1]);
-    value + 2 * hue
-}
-
-/// Colour contrast (by [`dist`]) two surfaces need before their edge is trusted.
+/// Colour contrast (by [`hue_dist`]) two surfaces need before their edge is trusted. Counting hue
+/// in every colour test of the warp: RGB alignment F1 +0.005 to +0.011 on the complex scenes of
+/// eleven simulated suites, −0.0014 on the ideal-sensor one; 0.09 % of the real frame's RGB
+/// labels move, by a pixel.
 const EDGE_CONTRAST: u32 = 90;
 /// The same for a near surface whose colour holds over several pixels before the edge.
 const WIDE_EDGE_CONTRAST: u32 = 45;
