@@ -107,8 +107,6 @@ pub struct ColourSplit {
 struct Prefix {
     bg_count: Vec<u32>,
     dist_sum: Vec<u32>,
-    /// The same sums by [`hue_dist`], for the occluder's columns.
-    hue_sum: Vec<u32>,
     /// Recent splits by row and candidate: each row's is asked for up to three times (as the
     /// row, and as the neighbour of the rows above and below), and reads the RGB image once.
     memo: [Option<(usize, Candidate, Split)>; MEMO],
@@ -132,9 +130,9 @@ struct Layout {
     /// colour distance from the background.
     shadow_cols: usize,
     shadow_sum: u32,
-    /// The same for the occluder's columns.
+    /// The occluder's columns: the first, and how many.
+    occluder_start: usize,
     occluder_cols: usize,
-    occluder_sum: u32,
 }
 
 /// A merged hole `[a, b)` of one row and its background's raw value.
@@ -186,7 +184,6 @@ impl ColourSplit {
             prefix: Prefix {
                 bg_count: vec![0; WIDTH + 1],
                 dist_sum: vec![0; WIDTH + 1],
-                hue_sum: vec![0; WIDTH + 1],
                 ..Prefix::default()
             },
         }
@@ -637,12 +634,11 @@ impl ColourSplit {
         }
         let bg_colour = sum.map(|s| s / SIDE as i32);
         let n = (x1 - x0) as usize;
-        let (bg_count, hue_sum) = (&mut prefix.bg_count[..], &mut prefix.hue_sum[..]);
-        (bg_count[0], hue_sum[0]) = (0, 0);
+        let bg_count = &mut prefix.bg_count[..];
+        bg_count[0] = 0;
         for k in 0..n {
-            let p = px(x0 + k as i64);
-            bg_count[k + 1] = bg_count[k] + u32::from(dist(p, bg_colour) < COLOUR_STEP);
-            hue_sum[k + 1] = hue_sum[k] + hue_dist(p, bg_colour);
+            let dx = dist(px(x0 + k as i64), bg_colour);
+            bg_count[k + 1] = bg_count[k] + u32::from(dx < COLOUR_STEP);
         }
         let (misses, t, o1) = self.fit_right_edge(&bg_count[..=n], x0, v, b, bg)?;
         let lo = o1.saturating_sub(OPEN_WINDOW);
@@ -653,7 +649,10 @@ impl ColourSplit {
         (misses <= 1
             && strip >= 2
             && occluder_cols >= (OPEN_WINDOW / 2) as u32
-            && hue_sum[o1] - hue_sum[lo] >= OCCLUDER_STEP * occluder_cols)
+            && (lo..o1)
+                .map(|k| hue_dist(px(x0 + k as i64), bg_colour))
+                .sum::<u32>()
+                >= OCCLUDER_STEP * occluder_cols)
             .then_some(t)
     }
 
@@ -804,19 +803,14 @@ impl ColourSplit {
         // of non-background columns, so the columns are read only a window past it, and only
         // widths near it are scored (this keeps the many open holes of a real frame cheap).
         let mut n = (x1 - x0) as usize;
-        let (bg_count, dist_sum, hue_sum) = (
-            &mut prefix.bg_count[..],
-            &mut prefix.dist_sum[..],
-            &mut prefix.hue_sum[..],
-        );
-        (bg_count[0], dist_sum[0], hue_sum[0]) = (0, 0, 0);
+        let (bg_count, dist_sum) = (&mut prefix.bg_count[..], &mut prefix.dist_sum[..]);
+        (bg_count[0], dist_sum[0]) = (0, 0);
         let mut first = None;
-        for (k, p) in pixels.chunks_exact(3).enumerate() {
-            let p = [p[0].into(), p[1].into(), p[2].into()];
-            let dx = dist(p, bg);
+        let colour = |k: usize| [3 * k, 3 * k + 1, 3 * k + 2].map(|i| i32::from(pixels[i]));
+        for k in 0..pixels.len() / 3 {
+            let dx = dist(colour(k), bg);
             bg_count[k + 1] = bg_count[k] + u32::from(dx < COLOUR_STEP);
             dist_sum[k + 1] = dist_sum[k] + dx;
-            hue_sum[k + 1] = hue_sum[k] + hue_dist(p, bg);
             if !c.closed && first.is_none() && k >= 2 && bg_count[k + 1] == bg_count[k - 2] {
                 first = Some(k - 2);
             }
@@ -827,7 +821,7 @@ impl ColourSplit {
                 break;
             }
         }
-        let (bg_count, dist_sum, hue_sum) = (&*bg_count, &*dist_sum, &*hue_sum);
+        let (bg_count, dist_sum) = (&*bg_count, &*dist_sum);
         let near = match (c.closed, first) {
             (true, _) => 0..n,
             (false, Some(first)) => first.saturating_sub(2)..first + 3,
@@ -870,8 +864,8 @@ impl ColourSplit {
                 hits: outside_bg + occluder_cols - occluder_bg,
                 shadow_cols: o0,
                 shadow_sum: dist_sum[o0],
+                occluder_start: o0,
                 occluder_cols,
-                occluder_sum: hue_sum[o1] - hue_sum[o0],
             };
             (layout, end)
         };
@@ -916,11 +910,13 @@ impl ColourSplit {
         }
         // Nearly every column explained, clearly better than no shadow; the shadow's columns are
         // plainly background and the occluder's plainly not (a pale poster on a white wall is
-        // neither).
+        // neither). The occluder's, by hue too, are summed for this one layout only.
+        let occluder = l.occluder_start..l.occluder_start + l.occluder_cols;
         let clear = l.shadow_cols >= 2
             && l.occluder_cols >= 2
             && 2 * l.shadow_sum <= COLOUR_STEP * l.shadow_cols as u32
-            && l.occluder_sum >= OCCLUDER_STEP * l.occluder_cols as u32;
+            && occluder.map(|k| hue_dist(colour(k), bg)).sum::<u32>()
+                >= OCCLUDER_STEP * l.occluder_cols as u32;
         (clear && 10 * l.hits >= 9 * n && l.hits >= no_shadow + l.shadow_cols / 2 + 2)
             .then_some((s, shift.unwrap_or(s)))
     }
