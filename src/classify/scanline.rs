@@ -40,6 +40,9 @@ pub struct ScanParams {
     simd: Simd,
     /// Raw-value step of a depth edge (`min_step` pixels of disparity), for flying pixels.
     edge_raw: u16,
+    /// The smallest raw-value difference that is a step of `min_step` pixels of disparity
+    /// (disparity is linear in raw, so the float test is one integer compare).
+    step_raw: i32,
 }
 
 impl ScanParams {
@@ -57,6 +60,7 @@ impl ScanParams {
             fallback_raw: fallback,
             simd: Simd::detect(),
             edge_raw: (p.min_step_px / calib.px_per_raw()).ceil().max(2.0) as u16,
+            step_raw: (p.min_step_px / calib.px_per_raw()).ceil().max(1.0) as i32,
         }
     }
 
@@ -1436,8 +1440,8 @@ fn background_right_of(p: &ScanParams, raw: &[u16], start: usize) -> Option<u16>
     while u < n && u < start + MAX_RUN {
         let r = raw[u];
         if r != NO_DEPTH {
-            let step = p.disp(last) - p.disp(r);
-            if step >= p.min_step {
+            let step = i32::from(r) - i32::from(last);
+            if step >= p.step_raw {
                 // Falling edge: robust background from up to three pixels past it.
                 return raw[u..]
                     .iter()
@@ -1446,7 +1450,7 @@ fn background_right_of(p: &ScanParams, raw: &[u16], start: usize) -> Option<u16>
                     .copied()
                     .max();
             }
-            if step <= -p.min_step {
+            if step <= -p.step_raw {
                 return None; // something nearer still: no background in sight
             }
             last = r;
