@@ -923,6 +923,14 @@ fn glossy_box_nearly_as_bright_as_the_wall_has_its_shadow_split_off_by_hue() {
 }
 
 #[test]
+fn glossy_box_as_bright_as_the_wall_has_its_shadow_split_off_by_hue() {
+    // As above, a glossy box as bright as the wall, bluer (0.70, 0.72, 0.90 against 0.80, 0.78,
+    // 0.70): by |ΔR|, |ΔG|, |ΔB| alone under the step that tells background from not (60), so
+    // every column of it looked like wall and no row was split; its hue tells it apart.
+    glossy_box_shadow_split([0.7, 0.72, 0.9], 5, 0..60);
+}
+
+#[test]
 fn nearer_box_seen_over_its_own_shadow_is_no_depthless_occluder() {
     // A random complex scene (seed 424243272747) that a weaker colour test broke: a box at 1.06 m
     // before a wall slanting out of range. Its attached shadow falls where the wall is beyond

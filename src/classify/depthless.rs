@@ -43,6 +43,12 @@ const SIDE: usize = 4;
 const SAME_SURFACE: f64 = 2.0;
 /// Colour distance (sum of |ΔR|+|ΔG|+|ΔB|) beyond which an RGB pixel is not background.
 const COLOUR_STEP: u32 = 60;
+/// The same by [`hue_dist`], for the columns of a split's layout: an occluder as bright as the
+/// wall but of another hue is told from it (complex attached F1 +0.004 to +0.005 on two suites
+/// of eleven, up to +0.0015 on four, −0.0008 on one). At COLOUR_STEP the camera's noise in the
+/// hue split off shadows of single rows on the real frame (a translucent bin); at this step
+/// none, and two such rows that brightness alone had split off are gone too.
+const HUE_STEP: u32 = 90;
 /// Mean colour distance ([`hue_dist`]) from the background that an occluder's RGB columns must
 /// reach: plainly not background. A blue-grey glossy board on a pale wall is 100 to 110 away by
 /// brightness alone; twice COLOUR_STEP missed such occluders (0.005 to 0.007 of complex scenes'
@@ -637,8 +643,8 @@ impl ColourSplit {
         let bg_count = &mut prefix.bg_count[..];
         bg_count[0] = 0;
         for k in 0..n {
-            let dx = dist(px(x0 + k as i64), bg_colour);
-            bg_count[k + 1] = bg_count[k] + u32::from(dx < COLOUR_STEP);
+            let dx = hue_dist(px(x0 + k as i64), bg_colour);
+            bg_count[k + 1] = bg_count[k] + u32::from(dx < HUE_STEP);
         }
         let (misses, t, o1) = self.fit_right_edge(&bg_count[..=n], x0, v, b, bg)?;
         let lo = o1.saturating_sub(OPEN_WINDOW);
@@ -809,7 +815,7 @@ impl ColourSplit {
         let colour = |k: usize| [3 * k, 3 * k + 1, 3 * k + 2].map(|i| i32::from(pixels[i]));
         for k in 0..pixels.len() / 3 {
             let dx = dist(colour(k), bg);
-            bg_count[k + 1] = bg_count[k] + u32::from(dx < COLOUR_STEP);
+            bg_count[k + 1] = bg_count[k] + u32::from(hue_dist(colour(k), bg) < HUE_STEP);
             dist_sum[k + 1] = dist_sum[k] + dx;
             if !c.closed && first.is_none() && k >= 2 && bg_count[k + 1] == bg_count[k - 2] {
                 first = Some(k - 2);
@@ -941,9 +947,8 @@ pub(crate) fn dist(p: [i32; 3], q: [i32; 3]) -> u32 {
 
 /// Colour distance for telling two surfaces apart: [`dist`] plus twice the change of hue,
 /// `|Δ(R − G)| + |Δ(B − G)|`. Shading and texture move a surface's brightness far more than its
-/// hue, so a hue difference is the surer sign of another surface. The colour split's test of
-/// each column for background keeps [`dist`]: with hue counted there, the camera's noise and a
-/// glossy poster's highlight split off shadows that are none (on the real frame too).
+/// hue, so a hue difference is the surer sign of another surface. The camera's noise weighs
+/// more in it too: tests of "the same colour" by it need a larger step ([`HUE_STEP`]).
 #[inline]
 pub(crate) fn hue_dist(p: [i32; 3], q: [i32; 3]) -> u32 {
     let hue = (p[0] - p[1]).abs_diff(q[0] - q[1]) + (p[2] - p[1]).abs_diff(q[2] - q[1]);
