@@ -41,22 +41,21 @@ const SIDE: usize = 4;
 /// Disparity difference (pixels) within which the surfaces beside a hole are one background;
 /// past it, the nearer one is another surface.
 const SAME_SURFACE: f64 = 2.0;
-/// Colour distance (sum of |ΔR|+|ΔG|+|ΔB|) beyond which an RGB pixel is not background.
-const COLOUR_STEP: u32 = 60;
-/// The same by [`hue_dist`], for the columns of a split's layout: an occluder as bright as the
-/// wall but of another hue is told from it (complex attached F1 +0.004 to +0.005 on two suites
-/// of eleven, up to +0.0015 on four, −0.0008 on one). At COLOUR_STEP the camera's noise in the
-/// hue split off shadows of single rows on the real frame (a translucent bin); at this step
-/// none, and two such rows that brightness alone had split off are gone too.
-const HUE_STEP: u32 = 90;
-/// Mean colour distance ([`hue_dist`]) from the background that an occluder's RGB columns must
-/// reach: plainly not background. A blue-grey glossy board on a pale wall is 100 to 110 away by
-/// brightness alone; twice COLOUR_STEP missed such occluders (0.005 to 0.007 of complex scenes'
-/// attached F1). Counting hue: a glossy occluder whose highlight is nearly as bright as the wall
-/// but of another hue passes (attached F1 +0.001 to +0.002 on three suites of eleven).
+/// Colour distance ([`hue_dist`], as every colour test here) beyond which an RGB pixel is not
+/// background. Brightness alone, at 60, missed occluders as bright as the wall but of another
+/// hue; with hue counted the camera's noise weighs more, and at 60 it split off one-row shadows
+/// in a translucent bin on the real frame. Against brightness alone (at 60 and 45): complex IR
+/// attached F1 +0.001 to +0.008 on nine suites of eleven, unchanged on two; detached +0.015 and
+/// +0.005 on two; any-shadow precision −0.0015 to +0.0038; the real frame loses four one-row
+/// shadows.
+const COLOUR_STEP: u32 = 90;
+/// Mean colour distance from the background that an occluder's RGB columns must reach: plainly
+/// not background. A blue-grey glossy board on a pale wall is 100 to 110 away by brightness
+/// alone; twice the background step missed such occluders (0.005 to 0.007 of complex scenes'
+/// attached F1).
 const OCCLUDER_STEP: u32 = 90;
 /// The two sides' background colours may differ by at most this much.
-const SIDES_AGREE: u32 = 45;
+const SIDES_AGREE: u32 = 68;
 /// Valid runs this short inside a hole are noise, stepped over.
 const MAX_ISLAND: usize = 2;
 /// The occluder's left edge (hole start plus shadow width) may move by this much (pixels) from
@@ -107,12 +106,11 @@ pub struct ColourSplit {
     prefix: Prefix,
 }
 
-/// Prefix sums over the RGB columns under a hole: columns that look like background, and their
-/// summed colour distance from it.
+/// Prefix counts over the RGB columns under a hole of those that look like background, and the
+/// memo of recent splits.
 #[derive(Clone, Debug, Default)]
 struct Prefix {
     bg_count: Vec<u32>,
-    dist_sum: Vec<u32>,
     /// Recent splits by row and candidate: each row's is asked for up to three times (as the
     /// row, and as the neighbour of the rows above and below), and reads the RGB image once.
     memo: [Option<(usize, Candidate, Split)>; MEMO],
@@ -132,10 +130,8 @@ type Split = Option<(usize, usize)>;
 struct Layout {
     /// RGB columns whose colour matches the layout (background or not).
     hits: usize,
-    /// RGB columns the layout calls shadow (background left of the occluder) and their summed
-    /// colour distance from the background.
+    /// RGB columns the layout calls shadow (background left of the occluder).
     shadow_cols: usize,
-    shadow_sum: u32,
     /// The occluder's columns: the first, and how many.
     occluder_start: usize,
     occluder_cols: usize,
@@ -189,7 +185,6 @@ impl ColourSplit {
             masks: vec![HoleMask::of(&[]); HEIGHT],
             prefix: Prefix {
                 bg_count: vec![0; WIDTH + 1],
-                dist_sum: vec![0; WIDTH + 1],
                 ..Prefix::default()
             },
         }
@@ -644,7 +639,7 @@ impl ColourSplit {
         bg_count[0] = 0;
         for k in 0..n {
             let dx = hue_dist(px(x0 + k as i64), bg_colour);
-            bg_count[k + 1] = bg_count[k] + u32::from(dx < HUE_STEP);
+            bg_count[k + 1] = bg_count[k] + u32::from(dx < COLOUR_STEP);
         }
         let (misses, t, o1) = self.fit_right_edge(&bg_count[..=n], x0, v, b, bg)?;
         let lo = o1.saturating_sub(OPEN_WINDOW);
@@ -759,11 +754,11 @@ impl ColourSplit {
             rgb_at(rgb, x, y)
         };
         let beside = probe(if c.behind { c.b + 1 } else { c.a - 2 })?;
-        if dist(probe(c.a)?, beside) >= COLOUR_STEP
+        if hue_dist(probe(c.a)?, beside) >= COLOUR_STEP
             || (c.closed
-                && (dist(probe(c.b + 1)?, beside) > SIDES_AGREE
-                    || (dist(probe((c.a + c.b) / 2)?, beside) < COLOUR_STEP
-                        && dist(probe((c.a + 3 * c.b) / 4)?, beside) < COLOUR_STEP)))
+                && (hue_dist(probe(c.b + 1)?, beside) > SIDES_AGREE
+                    || (hue_dist(probe((c.a + c.b) / 2)?, beside) < COLOUR_STEP
+                        && hue_dist(probe((c.a + 3 * c.b) / 4)?, beside) < COLOUR_STEP)))
         {
             return None;
         }
@@ -771,7 +766,7 @@ impl ColourSplit {
             side(c.b..c.b + SIDE)?
         } else if c.closed {
             let (left, right) = (side(c.a - SIDE..c.a)?, side(c.b..c.b + SIDE)?);
-            if dist(left, right) > SIDES_AGREE {
+            if hue_dist(left, right) > SIDES_AGREE {
                 return None;
             }
             std::array::from_fn(|k| (left[k] + right[k]) / 2)
@@ -803,20 +798,17 @@ impl ColourSplit {
         }
         let pixels =
             &rgb[3 * (y as usize * WIDTH + x0 as usize)..3 * (y as usize * WIDTH + x1 as usize)];
-        // Prefix sums over the RGB columns from x0: background columns, and colour distance, so
-        // each layout scores in constant time.
+        // Prefix counts of background columns from x0, so each layout scores in constant time.
         // An open hole must show its occluder: the shadow can only end just before the first run
         // of non-background columns, so the columns are read only a window past it, and only
         // widths near it are scored (this keeps the many open holes of a real frame cheap).
         let mut n = (x1 - x0) as usize;
-        let (bg_count, dist_sum) = (&mut prefix.bg_count[..], &mut prefix.dist_sum[..]);
-        (bg_count[0], dist_sum[0]) = (0, 0);
+        let bg_count = &mut prefix.bg_count[..];
+        bg_count[0] = 0;
         let mut first = None;
         let colour = |k: usize| [3 * k, 3 * k + 1, 3 * k + 2].map(|i| i32::from(pixels[i]));
         for k in 0..pixels.len() / 3 {
-            let dx = dist(colour(k), bg);
-            bg_count[k + 1] = bg_count[k] + u32::from(hue_dist(colour(k), bg) < HUE_STEP);
-            dist_sum[k + 1] = dist_sum[k] + dx;
+            bg_count[k + 1] = bg_count[k] + u32::from(hue_dist(colour(k), bg) < COLOUR_STEP);
             if !c.closed && first.is_none() && k >= 2 && bg_count[k + 1] == bg_count[k - 2] {
                 first = Some(k - 2);
             }
@@ -827,7 +819,7 @@ impl ColourSplit {
                 break;
             }
         }
-        let (bg_count, dist_sum) = (&*bg_count, &*dist_sum);
+        let bg_count = &*bg_count;
         let near = match (c.closed, first) {
             (true, _) => 0..n,
             (false, Some(first)) => first.saturating_sub(2)..first + 3,
@@ -869,7 +861,6 @@ impl ColourSplit {
             let layout = Layout {
                 hits: outside_bg + occluder_cols - occluder_bg,
                 shadow_cols: o0,
-                shadow_sum: dist_sum[o0],
                 occluder_start: o0,
                 occluder_cols,
             };
@@ -916,13 +907,13 @@ impl ColourSplit {
         }
         // Nearly every column explained, clearly better than no shadow; the shadow's columns are
         // plainly background and the occluder's plainly not (a pale poster on a white wall is
-        // neither). The occluder's, by hue too, are summed for this one layout only.
+        // neither). Their distances are summed for this one layout only.
+        let sum = |cols: std::ops::Range<usize>| cols.map(|k| hue_dist(colour(k), bg)).sum::<u32>();
         let occluder = l.occluder_start..l.occluder_start + l.occluder_cols;
         let clear = l.shadow_cols >= 2
             && l.occluder_cols >= 2
-            && 2 * l.shadow_sum <= COLOUR_STEP * l.shadow_cols as u32
-            && occluder.map(|k| hue_dist(colour(k), bg)).sum::<u32>()
-                >= OCCLUDER_STEP * l.occluder_cols as u32;
+            && 2 * sum(0..l.shadow_cols) <= COLOUR_STEP * l.shadow_cols as u32
+            && sum(occluder) >= OCCLUDER_STEP * l.occluder_cols as u32;
         (clear && 10 * l.hits >= 9 * n && l.hits >= no_shadow + l.shadow_cols / 2 + 2)
             .then_some((s, shift.unwrap_or(s)))
     }
@@ -939,16 +930,16 @@ fn rgb_at(rgb: &[u8], x: f64, y: f64) -> Option<[i32; 3]> {
     Some([rgb[i].into(), rgb[i + 1].into(), rgb[i + 2].into()])
 }
 
-/// Colour distance: the sum of |ΔR| + |ΔG| + |ΔB|.
+/// Brightness part of [`hue_dist`]: the sum of |ΔR| + |ΔG| + |ΔB|.
 #[inline]
-pub(crate) fn dist(p: [i32; 3], q: [i32; 3]) -> u32 {
+fn dist(p: [i32; 3], q: [i32; 3]) -> u32 {
     p.iter().zip(&q).map(|(a, b)| a.abs_diff(*b)).sum()
 }
 
 /// Colour distance for telling two surfaces apart: [`dist`] plus twice the change of hue,
 /// `|Δ(R − G)| + |Δ(B − G)|`. Shading and texture move a surface's brightness far more than its
 /// hue, so a hue difference is the surer sign of another surface. The camera's noise weighs
-/// more in it too: tests of "the same colour" by it need a larger step ([`HUE_STEP`]).
+/// more in it too, so its steps are half as large again as brightness alone would need.
 #[inline]
 pub(crate) fn hue_dist(p: [i32; 3], q: [i32; 3]) -> u32 {
     let hue = (p[0] - p[1]).abs_diff(q[0] - q[1]) + (p[2] - p[1]).abs_diff(q[2] - q[1]);

@@ -13,7 +13,7 @@
 //! row: no search along the row, which keeps the many holes of a real frame cheap.
 
 use super::{
-    ceil, dist, hole_span, rgb_at, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE, SIDES_AGREE,
+    ceil, hole_span, hue_dist, rgb_at, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE, SIDES_AGREE,
 };
 use crate::labels::{DETACHED, NO_DEPTH, OTHER, WIDTH};
 
@@ -151,7 +151,7 @@ impl ColourSplit {
             return false;
         };
         let bg = match mean(h.b..h.b + SIDE, h.bg) {
-            Some(right) if dist(left, right) <= SIDES_AGREE => {
+            Some(right) if hue_dist(left, right) <= SIDES_AGREE => {
                 std::array::from_fn(|k| (left[k] + right[k]) / 2)
             }
             _ => left,
@@ -169,7 +169,7 @@ impl ColourSplit {
             let Some(p) = colour_at(x as f64, y) else {
                 return false;
             };
-            let d = dist(p, bg);
+            let d = hue_dist(p, bg);
             far += u32::from(d >= COLOUR_STEP);
             sum += d;
         }
@@ -182,7 +182,7 @@ impl ColourSplit {
         // thin rod's own hole shows background too, its image being moved left of it.)
         (h.a..h.a + (h.b - h.a).div_ceil(3)).all(|u| {
             let (x, y) = self.project(u as f64, v, h.bg);
-            colour_at(x, y).is_some_and(|p| dist(p, bg) < COLOUR_STEP)
+            colour_at(x, y).is_some_and(|p| hue_dist(p, bg) < COLOUR_STEP)
         })
     }
 }
