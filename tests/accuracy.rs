@@ -914,9 +914,9 @@ fn glossy_box_shadow_split(colour: [f64; 3], seed: u64, contrast: std::ops::Rang
 #[test]
 fn glossy_box_nearly_as_bright_as_the_wall_has_its_shadow_split_off_by_hue() {
     // The hand-computed box, glossy (no depth), nearly as bright as the pale wall but more
-    // yellow: in the RGB image it differs from the wall by a sum of |ΔR|, |ΔG|, |ΔB| between the
-    // step that tells background from not (60) and the one that makes a plain occluder (90); by
-    // its hue, (R − G, B − G), much more. Its shadow is split off at the hand-computed
+    // yellow: in the RGB image it differs from the wall by a sum of |ΔR|, |ΔG|, |ΔB| of 60 to 90,
+    // other than background but not plainly so by brightness alone; by its hue, (R − G, B − G),
+    // much more. Its shadow is split off at the hand-computed
     // f·b·(1/1 − 1/3) = 29.1 px, in every row (38 of 292 rows were split when occluders were
     // told from the wall by brightness alone).
     glossy_box_shadow_split([0.8, 0.62, 0.42], 5, 60..90);
@@ -925,8 +925,9 @@ fn glossy_box_nearly_as_bright_as_the_wall_has_its_shadow_split_off_by_hue() {
 #[test]
 fn glossy_box_as_bright_as_the_wall_has_its_shadow_split_off_by_hue() {
     // As above, a glossy box as bright as the wall, bluer (0.70, 0.72, 0.90 against 0.80, 0.78,
-    // 0.70): by |ΔR|, |ΔG|, |ΔB| alone under the step that tells background from not (60), so
-    // every column of it looked like wall and no row was split; its hue tells it apart.
+    // 0.70): by |ΔR|, |ΔG|, |ΔB| less than 60 from it, under the step by which brightness alone
+    // told background from not, so every column of it looked like wall and no row was split; its
+    // hue tells it apart.
     glossy_box_shadow_split([0.7, 0.72, 0.9], 5, 0..60);
 }
 

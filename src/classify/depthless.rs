@@ -51,8 +51,7 @@ const SAME_SURFACE: f64 = 2.0;
 const COLOUR_STEP: u32 = 90;
 /// Mean colour distance from the background that an occluder's RGB columns must reach: plainly
 /// not background. A blue-grey glossy board on a pale wall is 100 to 110 away by brightness
-/// alone; twice the background step missed such occluders (0.005 to 0.007 of complex scenes'
-/// attached F1).
+/// alone; a mean of 120 missed such occluders (0.005 to 0.007 of complex scenes' attached F1).
 const OCCLUDER_STEP: u32 = 90;
 /// The two sides' background colours may differ by at most this much.
 const SIDES_AGREE: u32 = 68;
