@@ -224,7 +224,7 @@ impl Warp {
     /// Projects every pixel of source row `v` into the RGB image: `n = R·ray(u) + t·iz`, target
     /// `x = fx·nx/nz + cx`, depth along the RGB axis `nz/iz`. One division gives both quotients
     /// (`r = 1/(nz·iz)`, so `1/nz = r·iz` and `1/iz = r·nz`), and the loop is branch-free, rounding
-    /// with [`round_to_u32`], so the compiler vectorises it.
+    /// with [`round_f32`] and [`round_bits`], so the compiler vectorises it.
     #[inline(always)]
     fn project_row(&mut self, v: usize, filled: &[u16], ir: &[u8]) {
         let [bx, by, bz] = self.row_ray[v];

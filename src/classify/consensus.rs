@@ -4,7 +4,7 @@
 //! bad where its neighbours' is good: speckle inside a shadow, a noisy bound, the widening
 //! swallowing a lit gap in one row. Shadows are solids in the image, continuous from row to row,
 //! so a hole pixel whose rows above and below agree on another shadow label takes theirs, and so
-//! does a run of up to [`MAX_GAP_ROWS`] rows (left OTHER, or given the other shadow label)
+//! does a run of up to three rows (`MAX_GAP_ROWS`; left OTHER, or given the other shadow label)
 //! between the same shadow label above and below. Valid pixels never change and no pixel
 //! becomes valid, so shadows only trade labels inside holes.
 //! No shadow label is taken away: a row that found a shadow had the evidence for it, while its

@@ -28,7 +28,7 @@ pub struct Args {
     /// Recording folder to create (fakenect format); must be absent or empty.
     #[arg(value_name = "OUT_REC", conflicts_with = "suite")]
     pub out: Option<PathBuf>,
-    /// Ground-truth folder to create: <i>.depth.png, <i>.rgb.png, meta.toml.
+    /// Ground-truth folder to create: 000000.depth.png, 000000.rgb.png, … per frame, meta.toml.
     #[arg(long, value_name = "GT_DIR", conflicts_with = "suite")]
     pub gt: Option<PathBuf>,
     /// Scene to simulate.

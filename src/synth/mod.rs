@@ -9,7 +9,7 @@
 //!
 //! Layout: [`geometry`] (shapes, ray intersection), [`scene`] (objects, hand-built scenes, motion),
 //! [`random`] (seeded scene generator), [`sensor`] (measurement model), [`render`] (ray casting,
-//! labels), [`write`] (files). Independent of [`crate::classify`] on purpose: it is the yardstick.
+//! labels), [`write`](mod@write) (files). Independent of [`crate::classify`] on purpose: it is the yardstick.
 
 pub mod geometry;
 pub mod random;
