@@ -38,11 +38,9 @@ pub struct ScanParams {
     fallback_raw: u16,
     /// Which build of the hot loops this CPU runs.
     simd: Simd,
-    /// Raw-value step of a depth edge (`min_step` pixels of disparity), for flying pixels.
+    /// Raw-value step of a depth edge (`min_step` pixels of disparity; disparity is linear in
+    /// raw, so the float test is one integer compare), for flying pixels and occluder walks.
     edge_raw: u16,
-    /// The smallest raw-value difference that is a step of `min_step` pixels of disparity
-    /// (disparity is linear in raw, so the float test is one integer compare).
-    step_raw: i32,
 }
 
 impl ScanParams {
@@ -60,7 +58,6 @@ impl ScanParams {
             fallback_raw: fallback,
             simd: Simd::detect(),
             edge_raw: (p.min_step_px / calib.px_per_raw()).ceil().max(2.0) as u16,
-            step_raw: (p.min_step_px / calib.px_per_raw()).ceil().max(1.0) as i32,
         }
     }
 
@@ -1441,7 +1438,7 @@ fn background_right_of(p: &ScanParams, raw: &[u16], start: usize) -> Option<u16>
         let r = raw[u];
         if r != NO_DEPTH {
             let step = i32::from(r) - i32::from(last);
-            if step >= p.step_raw {
+            if step >= i32::from(p.edge_raw) {
                 // Falling edge: robust background from up to three pixels past it.
                 return raw[u..]
                     .iter()
@@ -1450,7 +1447,7 @@ fn background_right_of(p: &ScanParams, raw: &[u16], start: usize) -> Option<u16>
                     .copied()
                     .max();
             }
-            if step <= -p.step_raw {
+            if step <= -i32::from(p.edge_raw) {
                 return None; // something nearer still: no background in sight
             }
             last = r;
