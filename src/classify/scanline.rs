@@ -374,10 +374,36 @@ fn snap_flying_pixels(p: &ScanParams, raw: &[u16], filled: &mut [u16]) {
         &raw[4..4 + len],
     );
     let out = &mut filled[2..2 + len];
+    // A flying pixel lies between valid pixels two apart that differ by a full edge step. Most
+    // blocks of a row hold no such step, and testing for one costs a fraction of the full test
+    // below (both branch-free, vectorised): about 10 µs of the scanline's 0.29 ms on the real
+    // frame.
+    const BLOCK: usize = 64;
+    let mut start = 0;
+    while start < len {
+        let end = (start + BLOCK).min(len);
+        let any_step = as_[start..end]
+            .iter()
+            .zip(&bs[start..end])
+            .fold(false, |any, (&a, &b)| {
+                any | ((a.max(b) < NO_DEPTH) & (a.abs_diff(b) >= big))
+            });
+        if any_step {
+            snap_block(start..end, big, [a2s, as_, ms, bs, b2s], out);
+        }
+        start = end;
+    }
+}
+
+/// The full flying-pixel test of [`snap_flying_pixels`] on positions `at` of its five shifted
+/// views (`big` the edge step), snapping `out` where it passes.
+#[inline(always)]
+fn snap_block(at: std::ops::Range<usize>, big: u16, views: [&[u16]; 5], out: &mut [u16]) {
+    let [a2s, as_, ms, bs, b2s] = views;
     let quarter = big / 4;
     // All values are ≤ 2047, so u16 arithmetic (16 lanes per AVX2 instruction) cannot overflow;
     // where `flying` is false the wrapping differences are garbage and discarded by the select.
-    for i in 0..len {
+    for i in at {
         let (a2, a, m, b, b2) = (a2s[i], as_[i], ms[i], bs[i], b2s[i]);
         let (lo, hi) = (a.min(b), a.max(b));
         let step = hi.wrapping_sub(lo);
@@ -2377,6 +2403,24 @@ mod tests {
         assert_eq!(labels[200], VALID, "the measured pixel keeps its label");
         assert_eq!(filled[300], 880);
         assert_eq!(&filled[..200], &row[..200]);
+    }
+
+    #[test]
+    fn a_flying_pixel_is_snapped_in_any_column() {
+        // The test skips blocks of columns without an edge step: an edge in any column, the
+        // blocks' first and last included, still has its mixed pixel snapped. The step is just
+        // over the edge step, so only the pair of pixels around the mixed one shows it.
+        let (_, p) = params();
+        let step = p.edge_raw + 2;
+        for at in 3..WIDTH - 3 {
+            let mut row = vec![800 + step; WIDTH];
+            row[..at].fill(800);
+            row[at] = 800 + step / 2 - 1;
+            let (_, filled) = run_with_neighbours(&[], &row, &[]);
+            assert_eq!(filled[at], 800, "mixed pixel in column {at}");
+            assert_eq!(&filled[..at], &row[..at]);
+            assert_eq!(&filled[at + 1..], &row[at + 1..]);
+        }
     }
 
     #[test]
