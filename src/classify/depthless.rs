@@ -27,6 +27,7 @@
 
 use super::align::Simd;
 use super::holes::HoleMask;
+use super::scanline::{beyond_range_span, Range};
 use crate::calib::Calibration;
 use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
@@ -38,6 +39,13 @@ mod pairs;
 /// +0.0003 on the others; at 6 also RGB alignment +0.009 on one and +0.002 on two) for +24,
 /// +46 or +80 µs on the real frame.
 const MIN_HOLE: usize = 10;
+/// Raw units past the scanline's range test at which a split-off shadow leaves the range. At
+/// the scanline's own (0) a noise-free sensor lost attached F1 (−0.0010): there the farthest
+/// value of a frame can be a wall well within range, whose slope then reaches it a fraction of a
+/// unit into the shadow. At 1, complex attached F1 +0.0217 on one suite of thirteen (a wall
+/// slanting out of range behind a row of cylinders), +0.0027 on another, +0.0004 to +0.0006 on
+/// five, −0.0001 on two; at 2, +0.0156 and +0.0016 on those two.
+const RANGE_MARGIN: u16 = 1;
 /// Background samples taken on each side of the hole (IR pixels).
 const SIDE: usize = 4;
 /// Disparity difference (pixels) within which the surfaces beside a hole are one background;
@@ -196,14 +204,28 @@ impl ColourSplit {
     /// its shift), and the occluder part of `filled` is set to the raw value its shadow (or its
     /// right edge) implies, so the warp puts it where it stands.
     pub fn apply(&mut self, raw: &[u16], rgb: &[u8], labels: &mut [u8], filled: &mut [u16]) {
+        self.apply_in_range(raw, rgb, Range::of(raw), labels, filled);
+    }
+
+    /// [`ColourSplit::apply`] with the frame's range as the scanline found it
+    /// ([`classify_frame`](super::scanline::classify_frame) returns it): part of a shadow split
+    /// off on a surface receding past the range is OTHER, as the scanline's own are.
+    pub fn apply_in_range(
+        &mut self,
+        raw: &[u16],
+        rgb: &[u8],
+        range: Range,
+        labels: &mut [u8],
+        filled: &mut [u16],
+    ) {
         // SAFETY: each build runs only when the CPU reported its features at construction.
         #[cfg(target_arch = "x86_64")]
         match self.simd {
-            Simd::Avx512 => return unsafe { self.apply_avx512(raw, rgb, labels, filled) },
-            Simd::Avx2 => return unsafe { self.apply_avx2(raw, rgb, labels, filled) },
+            Simd::Avx512 => return unsafe { self.apply_avx512(raw, rgb, range, labels, filled) },
+            Simd::Avx2 => return unsafe { self.apply_avx2(raw, rgb, range, labels, filled) },
             Simd::Baseline => {}
         }
-        self.apply_body(raw, rgb, labels, filled);
+        self.apply_body(raw, rgb, range, labels, filled);
     }
 
     /// Runs the given build of the row loop (tests compare the builds).
@@ -219,10 +241,11 @@ impl ColourSplit {
         &mut self,
         raw: &[u16],
         rgb: &[u8],
+        range: Range,
         labels: &mut [u8],
         filled: &mut [u16],
     ) {
-        self.apply_body(raw, rgb, labels, filled);
+        self.apply_body(raw, rgb, range, labels, filled);
     }
 
     /// The row loop compiled for AVX-512.
@@ -232,14 +255,22 @@ impl ColourSplit {
         &mut self,
         raw: &[u16],
         rgb: &[u8],
+        range: Range,
         labels: &mut [u8],
         filled: &mut [u16],
     ) {
-        self.apply_body(raw, rgb, labels, filled);
+        self.apply_body(raw, rgb, range, labels, filled);
     }
 
     #[inline(always)]
-    fn apply_body(&mut self, raw: &[u16], rgb: &[u8], labels: &mut [u8], filled: &mut [u16]) {
+    fn apply_body(
+        &mut self,
+        raw: &[u16],
+        rgb: &[u8],
+        range: Range,
+        labels: &mut [u8],
+        filled: &mut [u16],
+    ) {
         let mut prefix = std::mem::take(&mut self.prefix);
         prefix.memo = [None; MEMO];
         prefix.recent = pairs::Recent::default();
@@ -320,6 +351,21 @@ impl ColourSplit {
                         } else if u >= c.a + s {
                             filled[i] = at;
                         }
+                    }
+                    // A shadow on the background left of the hole leaves the range where that
+                    // background does (the scanline's test, from a raw unit further on).
+                    if code == ATTACHED && !c.behind {
+                        let (done, rest) = labels.split_at_mut(v * WIDTH);
+                        beyond_range_span(
+                            &raw[v * WIDTH..(v + 1) * WIDTH],
+                            (c.a, c.a + s),
+                            Range {
+                                far: range.far.saturating_add(RANGE_MARGIN),
+                                limit: range.limit.saturating_add(RANGE_MARGIN),
+                            },
+                            &done[(v - 1) * WIDTH..],
+                            &mut rest[..WIDTH],
+                        );
                     }
                 }
                 u = mask.next_hole(b.max(u + 1));

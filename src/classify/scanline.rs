@@ -83,7 +83,8 @@ impl ScanParams {
 
 /// Classifies a whole frame row by row. `filled` receives the raw values with each hole replaced
 /// by the raw value of the surface it is assumed to lie on (used to warp holes into the RGB view).
-pub fn classify_frame(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &mut [u16]) {
+/// Returns what the frame says about the sensor's range, for the colour split.
+pub fn classify_frame(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &mut [u16]) -> Range {
     // SAFETY: each build runs only when the CPU reported its features.
     #[cfg(target_arch = "x86_64")]
     match p.simd {
@@ -91,14 +92,19 @@ pub fn classify_frame(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &m
         Simd::Avx2 => return unsafe { classify_frame_avx2(p, raw, labels, filled) },
         Simd::Baseline => {}
     }
-    classify_frame_body(p, raw, labels, filled);
+    classify_frame_body(p, raw, labels, filled)
 }
 
 /// [`classify_frame`] compiled for AVX2+FMA.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn classify_frame_avx2(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &mut [u16]) {
-    classify_frame_body(p, raw, labels, filled);
+unsafe fn classify_frame_avx2(
+    p: &ScanParams,
+    raw: &[u16],
+    labels: &mut [u8],
+    filled: &mut [u16],
+) -> Range {
+    classify_frame_body(p, raw, labels, filled)
 }
 
 /// [`classify_frame`] compiled for AVX-512.
@@ -109,12 +115,17 @@ unsafe fn classify_frame_avx512(
     raw: &[u16],
     labels: &mut [u8],
     filled: &mut [u16],
-) {
-    classify_frame_body(p, raw, labels, filled);
+) -> Range {
+    classify_frame_body(p, raw, labels, filled)
 }
 
 #[inline(always)]
-fn classify_frame_body(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &mut [u16]) {
+fn classify_frame_body(
+    p: &ScanParams,
+    raw: &[u16],
+    labels: &mut [u8],
+    filled: &mut [u16],
+) -> Range {
     // Last valid raw value seen in each column in the rows above: background for holes that touch
     // the left border, where the row itself has no Sa.
     let mut column_memory = [NO_DEPTH; WIDTH];
@@ -143,6 +154,7 @@ fn classify_frame_body(p: &ScanParams, raw: &[u16], labels: &mut [u8], filled: &
             *m = if r != NO_DEPTH { r } else { *m };
         }
     }
+    range
 }
 
 /// What a bounded hole is judged against besides its own row.
@@ -1032,6 +1044,18 @@ fn occluder_end(p: &ScanParams, row: &[u16], start: usize, d_occ: f32, w: f32) -
 /// lit, so it is OTHER (SPEC §1): extrapolate Sa's surface across the hole and give back to OTHER
 /// the pixels where it lies farther than anything measured in the frame (`far`), or past the
 /// range limit under `far`'s noise tail where no row above measured anything in that column.
+/// [`beyond_range`] for the shadow `[start, end)` of row `raw` that the colour split labelled,
+/// with nothing known of the rows above but their labels.
+pub(crate) fn beyond_range_span(
+    raw: &[u16],
+    (start, end): (usize, usize),
+    range: Range,
+    prev_labels: &[u8],
+    labels: &mut [u8],
+) {
+    beyond_range(raw, Run { start, end }, range, &[], prev_labels, labels);
+}
+
 fn beyond_range(
     raw: &[u16],
     h: Run,
