@@ -272,6 +272,11 @@ impl ColourSplit {
         labels: &mut [u8],
         filled: &mut [u16],
     ) {
+        // The range its shadows are held to: the scanline's, a raw unit further on.
+        let split_range = Range {
+            far: range.far.saturating_add(RANGE_MARGIN),
+            limit: range.limit.saturating_add(RANGE_MARGIN),
+        };
         let mut prefix = std::mem::take(&mut self.prefix);
         prefix.memo = [None; MEMO];
         prefix.recent = pairs::Recent::default();
@@ -360,10 +365,7 @@ impl ColourSplit {
                         beyond_range_span(
                             &raw[v * WIDTH..(v + 1) * WIDTH],
                             (c.a, c.a + s),
-                            Range {
-                                far: range.far.saturating_add(RANGE_MARGIN),
-                                limit: range.limit.saturating_add(RANGE_MARGIN),
-                            },
+                            split_range,
                             &done[(v - 1) * WIDTH..],
                             &mut rest[..WIDTH],
                         );
