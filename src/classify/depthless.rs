@@ -40,9 +40,9 @@ mod pairs;
 /// +46 or +80 µs on the real frame.
 const MIN_HOLE: usize = 10;
 /// Raw units past the scanline's range test at which a split-off shadow leaves the range. At
-/// the scanline's own (0) a noise-free sensor lost attached F1 (−0.0010): there the farthest
-/// value of a frame can be a wall well within range, whose slope then reaches it a fraction of a
-/// unit into the shadow. At 1, complex attached F1 +0.0217 on one suite of fourteen (a wall
+/// the scanline's own (0) a noise-free sensor (20 scenes) lost attached F1 (−0.0010): there the
+/// farthest value of a frame can be a wall well within range, whose slope then reaches it a
+/// fraction of a unit into the shadow. At 1, complex attached F1 +0.0217 on one suite of fourteen (a wall
 /// slanting out of range behind a row of cylinders), +0.0027 on another, +0.0003 to +0.0006 on
 /// six (among them one made after the change), −0.0001 on two; at 2, +0.0156 and +0.0016 on the
 /// first two.
