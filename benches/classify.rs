@@ -128,11 +128,12 @@ fn bench(c: &mut Criterion) {
                 )
             })
         });
+        // Each later stage is timed on what the stages before it make of this frame, computed
+        // here whichever benchmarks a filter selects (restored before each run, untimed).
+        let mut split = umbra::classify::depthless::ColourSplit::new(cal);
+        let (mut labels, mut fill) = (vec![0u8; PIXELS], vec![0u16; PIXELS]);
+        umbra::classify::scanline::classify_frame(&scan, frame, &mut labels, &mut fill);
         if let Some(rgb) = rgb {
-            // The colour split on the scanline's output (restored before each run, untimed).
-            let mut split = umbra::classify::depthless::ColourSplit::new(cal);
-            let (mut labels, mut fill) = (vec![0u8; PIXELS], vec![0u16; PIXELS]);
-            umbra::classify::scanline::classify_frame(&scan, frame, &mut labels, &mut fill);
             g.bench_function(format!("stage_colour_split/{name}"), |b| {
                 b.iter_batched_ref(
                     || (labels.clone(), fill.clone()),
@@ -140,18 +141,25 @@ fn bench(c: &mut Criterion) {
                     criterion::BatchSize::LargeInput,
                 )
             });
+            split.apply(frame, rgb, &mut labels, &mut fill);
         }
-        // The vertical consensus of one view's labels (on the scanline's output; it settles
-        // the same few pixels each run, the pass itself is the cost).
+        // The vertical consensus of the IR view's labels, as the classifier first runs it.
         g.bench_function(format!("stage_consensus/{name}"), |b| {
-            b.iter(|| umbra::classify::consensus::settle(black_box(&mut out.ir_labels)))
+            b.iter_batched_ref(
+                || labels.clone(),
+                |l| umbra::classify::consensus::settle(black_box(l)),
+                criterion::BatchSize::LargeInput,
+            )
         });
+        umbra::classify::consensus::settle(&mut labels);
+        // The warp with the colour image when there is one, as the classifier runs it.
         let mut warp = umbra::classify::align::Warp::new(cal);
         g.bench_function(format!("stage_warp_rgb/{name}"), |b| {
             b.iter(|| {
-                warp.apply(
-                    black_box(&filled),
-                    &out.ir_labels,
+                warp.apply_with_colour(
+                    black_box(&fill),
+                    &labels,
+                    rgb.as_deref(),
                     &mut out.rgb_labels,
                     &mut out.registered_mm,
                 )
