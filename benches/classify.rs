@@ -130,10 +130,10 @@ fn bench(c: &mut Criterion) {
         });
         // Each later stage is timed on what the stages before it make of this frame, computed
         // here whichever benchmarks a filter selects (restored before each run, untimed).
-        let mut split = umbra::classify::depthless::ColourSplit::new(cal);
         let (mut labels, mut fill) = (vec![0u8; PIXELS], vec![0u16; PIXELS]);
         umbra::classify::scanline::classify_frame(&scan, frame, &mut labels, &mut fill);
         if let Some(rgb) = rgb {
+            let mut split = umbra::classify::depthless::ColourSplit::new(cal);
             g.bench_function(format!("stage_colour_split/{name}"), |b| {
                 b.iter_batched_ref(
                     || (labels.clone(), fill.clone()),
