@@ -43,8 +43,9 @@ pub struct Warp {
     /// Which build of the hot loops this CPU runs (detected once).
     simd: Simd,
     /// The RGB camera is the IR camera moved along its x axis (no rotation, as in the NYU
-    /// calibration and libfreenect's registration): every ray's z is 1, so the target row is
-    /// fixed per source row and the column is linear in inverse depth, with no division.
+    /// defaults and libfreenect's registration; the NYU toolbox's own calibration has one): every
+    /// ray's z is 1, so the target row is fixed per source row and the column is linear in
+    /// inverse depth, with no division.
     affine: bool,
     /// `R · K_depth⁻¹ · (0, v, 1)` per source row: the rotated ray of column 0.
     row_ray: Vec<[f32; 3]>,
