@@ -243,3 +243,57 @@ fn replay_to_mcap_and_tail_back_gives_the_same_labels() {
         }
     }
 }
+
+/// `umbra bench classify` times every frame it was asked for, each also upside down, and reports
+/// the plain copy beside it; what it cannot time is a one-line error naming the folder.
+#[test]
+fn bench_classify_times_each_frame_and_its_mirror_next_to_a_plain_copy() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/complex-room");
+    let frames = Recording::open(Path::new(dir)).unwrap().len();
+    // No time limit: exactly one timed pass.
+    let out = umbra(&["bench", "classify", dir, "--seconds", "0"]);
+    let report = String::from_utf8_lossy(&out.stdout);
+    let timed: usize = report
+        .split(": ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no frame count in {report}"));
+    assert_eq!(timed, 2 * frames, "{report}");
+    assert!(
+        report.contains("with RGB") && report.contains("ms per frame on one core"),
+        "{report}"
+    );
+    assert!(
+        report.contains("plain copy of a depth frame in the same run"),
+        "{report}"
+    );
+    // Two frames asked of a three-frame recording, depth only.
+    let out = umbra(&[
+        "bench",
+        "classify",
+        dir,
+        "--seconds",
+        "0",
+        "--frames",
+        "2",
+        "--no-rgb",
+    ]);
+    let report = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        report.contains("(depth only, ") && report.contains("): 4 frames in "),
+        "{report}"
+    );
+
+    let bad = Command::new(env!("CARGO_BIN_EXE_umbra"))
+        .args(["bench", "classify", dir, "--frames", "0"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(!bad.status.success());
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("complex-room") && err.contains("no frames to time"),
+        "{err}"
+    );
+}

@@ -145,6 +145,24 @@ impl Warp {
         self.affine
     }
 
+    /// The SIMD level of the hot loops this warp runs.
+    pub(crate) fn simd_name(&self) -> &'static str {
+        match self.simd {
+            Simd::Avx512 => "AVX-512",
+            Simd::Avx2 => "AVX2",
+            Simd::Baseline => "baseline x86-64 loops",
+        }
+    }
+
+    /// Which projection loop the calibration allows.
+    pub(crate) fn projection_name(&self) -> &'static str {
+        if self.affine {
+            "affine warp"
+        } else {
+            "general warp"
+        }
+    }
+
     /// Warps one frame. `filled` is the raw map with every hole given an assumed depth (from the
     /// scanline classifier), `ir` the IR-view labels; writes RGB-view labels and registered depth
     /// in millimetres (0 where the RGB pixel has no measured depth).

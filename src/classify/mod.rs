@@ -84,6 +84,12 @@ impl Classifier {
         }
     }
 
+    /// Which builds of the hot loops this classifier runs, for speed reports: the SIMD level this
+    /// CPU allows and the warp's projection (see [`align::Warp`]).
+    pub fn hot_loops(&self) -> String {
+        format!("{}, {}", self.warp.simd_name(), self.warp.projection_name())
+    }
+
     /// Labels one raw 640×480 frame in both views, from depth alone.
     pub fn classify(&mut self, raw: &[u16], out: &mut Classified) {
         self.classify_with_rgb(raw, None, out);
