@@ -289,9 +289,17 @@ impl ColourSplit {
             // Each hole is visited once: from its first pixel, on to its end (islands of up to
             // MAX_ISLAND pixels included), going from hole to hole on the row's bitmap.
             let mut u = mask.next_hole(SIDE);
+            // Past the row's first hole, each visit starts after a span's end, where more than
+            // MAX_ISLAND valid pixels precede it: its span starts at `u`.
+            let mut first = true;
             while u < WIDTH - SIDE {
                 let i = v * WIDTH + u;
-                let (a, b) = hole_span(mask, row, u);
+                let (a, b) = if first {
+                    hole_span(mask, row, u)
+                } else {
+                    (u, span_end(mask, row, u))
+                };
+                first = false;
                 if labels[i] != OTHER {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
@@ -1014,14 +1022,7 @@ fn ceil(x: f64) -> i64 {
 /// [`MAX_ISLAND`] pixels (speckle, spurious returns inside a shadow): `[a, b)`. The runs' ends
 /// are read off the row's [`HoleMask`] a word at a time.
 fn hole_span(mask: &HoleMask, row: &[u16], u: usize) -> (usize, usize) {
-    let mut b = mask.next_valid(u);
-    while b < row.len() {
-        let island = mask.next_hole(b) - b;
-        if island > MAX_ISLAND || b + island >= row.len() {
-            break;
-        }
-        b = mask.next_valid(b + island);
-    }
+    let b = span_end(mask, row, u);
     let mut a = mask.prev_valid_end(u);
     while a > 0 {
         let island = a - mask.prev_hole_end(a);
@@ -1031,6 +1032,21 @@ fn hole_span(mask: &HoleMask, row: &[u16], u: usize) -> (usize, usize) {
         a = mask.prev_valid_end(a - island);
     }
     (a, b)
+}
+
+/// The end of [`hole_span`] alone: where the hole through column `u` ends, islands of up to
+/// [`MAX_ISLAND`] pixels stepped over.
+#[inline]
+fn span_end(mask: &HoleMask, row: &[u16], u: usize) -> usize {
+    let mut b = mask.next_valid(u);
+    while b < row.len() {
+        let island = mask.next_hole(b) - b;
+        if island > MAX_ISLAND || b + island >= row.len() {
+            break;
+        }
+        b = mask.next_valid(b + island);
+    }
+    b
 }
 
 #[cfg(test)]
@@ -1114,6 +1130,19 @@ mod tests {
                     hole_span_by_pixels(&row, u),
                     "at {u}"
                 );
+            }
+            // The colour split's walk from span to span: after the first, every span starts
+            // where the walk arrives, so its start need not be searched for.
+            let mut u = mask.next_hole(SIDE);
+            let mut first = true;
+            while u < WIDTH - SIDE {
+                let (a, b) = hole_span_by_pixels(&row, u);
+                if !first {
+                    assert_eq!(a, u, "a span of the walk starts where it arrives");
+                }
+                assert_eq!(span_end(&mask, &row, u), b, "at {u}");
+                first = false;
+                u = mask.next_hole(b.max(u + 1));
             }
         }
     }
