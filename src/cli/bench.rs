@@ -1,5 +1,5 @@
-//! `umbra bench`: the floors that `umbra run`'s CPU use is judged against, measured on this
-//! machine with the same data.
+//! `umbra bench`: the classifier's speed, and the floors that `umbra run`'s CPU use is judged
+//! against, measured on this machine with the same data.
 //!
 //! - `umbra bench receive`: a client that only receives depth and RGB through libfreenect (the
 //!   same binding and buffer pools as `umbra run`) and does nothing else. Under fakenect this
@@ -36,12 +36,12 @@ use crate::sink::mcap::writer::{DEPTH_FRAME_ID, RGB_FRAME_ID};
 /// Arguments of `umbra bench`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Which floor to measure.
+    /// What to measure.
     #[command(subcommand)]
     pub what: What,
 }
 
-/// The floors.
+/// The measurements.
 #[derive(clap::Subcommand, Debug)]
 pub enum What {
     /// Receive frames through libfreenect and do nothing else (run it under fakenect to replay a

@@ -44,7 +44,8 @@ pub enum Command {
     Record(record::Args),
     /// List the Kinects libfreenect sees and the --source naming each.
     Devices(devices::Args),
-    /// Measure the CPU floors `umbra run` is compared with (libfreenect receive, zstd alone).
+    /// Measure the classifier's speed on a recording, and the CPU floors `umbra run` is compared
+    /// with (libfreenect receive, zstd alone).
     Bench(bench::Args),
     /// Automatic foreground masks from classified shadows (SPEC §6), with overlay pictures.
     Segment(segment::Args),
