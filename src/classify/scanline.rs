@@ -1355,6 +1355,12 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
     {
         return None;
     }
+    // At the border nothing closes the occluder's hole, so the lit gap must be the very surface
+    // the shadow lies on (within a step of the shadow's left side), not merely near its depth:
+    // two thin objects before a wall beyond range bound its holes at depths near each other.
+    if at_border && (p.disp(raw[start - 1]) - p.disp(raw[h.start - 1])).abs() >= p.min_step {
+        return None;
+    }
     // Widening only ever adds to the shadow (up to `over`); one pixel of sampling either way.
     // At the border the occluder may be wider than what shows, so its shadow too; but a real
     // sensor's dead band there (8 px or more in every row) would pair with any hole within reach,
@@ -1643,6 +1649,25 @@ mod tests {
         let row = wall_with_holes(&c, &[(560, 568), (632, WIDTH)]);
         let (labels, _) = run_with_neighbours(&row, &row, &row);
         assert_run(&labels, 560..568, OTHER);
+    }
+
+    #[test]
+    fn hole_between_two_rods_before_a_wall_beyond_range_is_no_shadow_of_the_border() {
+        // Two rods before a wall beyond range (all holes): one at 2.43 m over [512, 520), one
+        // at 2.65 m over [590, 594): raw 948 and 960, f·b·(1/2.43 − 1/2.65) = 1.5 px apart. Read as a depthless occluder's
+        // detached shadow, [520, 590) would pair with the hole running off the border,
+        // [594, 640): shift 74 px, lit gap 4 px, "background" within 2 px on all sides. But the
+        // lit gap is not the surface the shadow would lie on (the rods are 1.5 px apart, a step
+        // more than the shadow's own surface allows), so it stays OTHER.
+        let (c, _) = params();
+        let (near, far) = (raw_at(&c, 2.43), raw_at(&c, 2.65));
+        assert_eq!((near, far), (948, 960));
+        let mut row = vec![NO_DEPTH; WIDTH];
+        row[512..520].fill(near);
+        row[590..594].fill(far);
+        let (labels, _) = run_with_neighbours(&row, &row, &row);
+        assert_run(&labels, 520..590, OTHER);
+        assert_run(&labels, 594..WIDTH, OTHER);
     }
 
     #[test]
