@@ -1460,9 +1460,17 @@ fn classify_left_border(
         .flatten()
         .max();
     fill(filled, h, bg.map_or(sb.far, |bg| bg.max(sb.far)));
+    // Nothing ever measured above the hole's columns, and the row above a hole across them too:
+    // a region the sensor cannot measure (a wall beyond range) reaching down to Sb, not a shadow
+    // on the surface found below.
+    let unmeasured_above = from_above.is_none()
+        && rows.up.len() >= WIDTH
+        && rows.up[rows.up.len() - WIDTH..][h.start..h.end]
+            .iter()
+            .all(|&r| r == NO_DEPTH);
     let attached_w = bg
         .map(|bg| p.disp(sb.near) - p.disp(bg))
-        .filter(|&w| w >= p.min_step);
+        .filter(|&w| w >= p.min_step && !unmeasured_above);
     if let Some(w) = attached_w {
         label_attached(
             p,
@@ -2551,6 +2559,33 @@ mod tests {
             labels[..20].iter().all(|&x| x == OTHER),
             "no background known: cannot tell"
         );
+    }
+
+    #[test]
+    fn left_border_hole_under_a_region_never_measured_is_other() {
+        // A wall beyond range fills the frame's top left down to a box at 1 m before a wall at
+        // 3 m: the hole [0, 20) beside the box continues a hole of the row above, and nothing was
+        // ever measured above its columns. The wall right of the box would make it the box's
+        // attached shadow (as in `left_border_uses_rows_above`), but a shadow has lit background
+        // above it somewhere; this is the unmeasurable region reaching down to the box.
+        let c = Calibration::nyu_default();
+        let (_, p) = params();
+        let wall = raw_at(&c, 3.0);
+        let mut row = vec![wall; WIDTH];
+        row[20..200].fill(raw_at(&c, 1.0));
+        row[..20].fill(NO_DEPTH);
+        let mut up = vec![wall; WIDTH];
+        up[..40].fill(NO_DEPTH);
+        let mut memory = [wall; WIDTH];
+        memory[..40].fill(NO_DEPTH);
+        let (mut labels, mut filled) = (vec![0; WIDTH], vec![0; WIDTH]);
+        let range = Range::at(2046);
+        classify_row(&p, &row, &memory, &up, &[], range, &mut labels, &mut filled);
+        assert_run(&labels, 0..20, OTHER);
+        // The wall measured above those columns (seen over the box's top): the box's shadow.
+        memory[..40].fill(wall);
+        classify_row(&p, &row, &memory, &up, &[], range, &mut labels, &mut filled);
+        assert_run(&labels, 0..20, ATTACHED);
     }
 
     #[test]
