@@ -357,7 +357,7 @@ fn classify_row_with(
             }
             (None, Some(sb)) => {
                 let rows = Rows { up, down: below };
-                classify_left_border(p, raw, *h, sb, above, rows, labels, filled)
+                classify_left_border(p, raw, *h, sb, above, prev_labels, rows, labels, filled)
             }
             (Some(sa), None) => fill(filled, *h, sa.far),
             (None, None) => fill(filled, *h, p.fallback_raw),
@@ -1434,6 +1434,7 @@ fn classify_left_border(
     h: Run,
     sb: Bound,
     above: &[u16],
+    prev_labels: &[u8],
     rows: Rows,
     labels: &mut [u8],
     filled: &mut [u16],
@@ -1460,14 +1461,13 @@ fn classify_left_border(
         .flatten()
         .max();
     fill(filled, h, bg.map_or(sb.far, |bg| bg.max(sb.far)));
-    // Nothing ever measured above the hole's columns, and the row above a hole across them too:
-    // a region the sensor cannot measure (a wall beyond range) reaching down to Sb, not a shadow
-    // on the surface found below.
+    // Nothing ever measured above the hole's columns, and the row above an OTHER hole across
+    // them: a region the sensor cannot measure (a wall beyond range) reaching down to Sb, not a
+    // shadow on the surface found below. (A shadow running down from the frame's top row is
+    // labelled there, and its rows below follow it.)
     let unmeasured_above = from_above.is_none()
-        && rows.up.len() >= WIDTH
-        && rows.up[rows.up.len() - WIDTH..][h.start..h.end]
-            .iter()
-            .all(|&r| r == NO_DEPTH);
+        && prev_labels.len() >= h.end
+        && prev_labels[h.start..h.end].iter().all(|&l| l == OTHER);
     let attached_w = bg
         .map(|bg| p.disp(sb.near) - p.disp(bg))
         .filter(|&w| w >= p.min_step && !unmeasured_above);
@@ -2563,29 +2563,48 @@ mod tests {
 
     #[test]
     fn left_border_hole_under_a_region_never_measured_is_other() {
-        // A wall beyond range fills the frame's top left down to a box at 1 m before a wall at
-        // 3 m: the hole [0, 20) beside the box continues a hole of the row above, and nothing was
-        // ever measured above its columns. The wall right of the box would make it the box's
-        // attached shadow (as in `left_border_uses_rows_above`), but a shadow has lit background
-        // above it somewhere; this is the unmeasurable region reaching down to the box.
+        // A frame of a wall at 3 m with a box at 1 m over columns [20, 200), rows [200, 400);
+        // left of the box, columns [0, 20) of those rows are a hole, as wide as its attached
+        // shadow there can show.
         let c = Calibration::nyu_default();
         let (_, p) = params();
-        let wall = raw_at(&c, 3.0);
-        let mut row = vec![wall; WIDTH];
-        row[20..200].fill(raw_at(&c, 1.0));
-        row[..20].fill(NO_DEPTH);
-        let mut up = vec![wall; WIDTH];
-        up[..40].fill(NO_DEPTH);
-        let mut memory = [wall; WIDTH];
-        memory[..40].fill(NO_DEPTH);
-        let (mut labels, mut filled) = (vec![0; WIDTH], vec![0; WIDTH]);
-        let range = Range::at(2046);
-        classify_row(&p, &row, &memory, &up, &[], range, &mut labels, &mut filled);
-        assert_run(&labels, 0..20, OTHER);
-        // The wall measured above those columns (seen over the box's top): the box's shadow.
-        memory[..40].fill(wall);
-        classify_row(&p, &row, &memory, &up, &[], range, &mut labels, &mut filled);
-        assert_run(&labels, 0..20, ATTACHED);
+        let (wall, near) = (raw_at(&c, 3.0), raw_at(&c, 1.0));
+        let frame = |top_left: u16, box_rows: std::ops::Range<usize>| {
+            let mut raw = vec![wall; PIXELS];
+            for v in box_rows {
+                raw[v * WIDTH + 20..v * WIDTH + 200].fill(near);
+                raw[v * WIDTH..v * WIDTH + 20].fill(NO_DEPTH);
+            }
+            for v in 0..200 {
+                // Above the box, the top left shows `top_left` (NO_DEPTH: beyond range).
+                if raw[v * WIDTH] != NO_DEPTH {
+                    raw[v * WIDTH..v * WIDTH + 40].fill(top_left);
+                }
+            }
+            raw
+        };
+        let classify = |raw: &[u16]| {
+            let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+            classify_frame(&p, raw, &mut labels, &mut filled);
+            labels
+        };
+        // The wall above measured: the box's attached shadow (the wall beside it the background).
+        let labels = classify(&frame(wall, 200..400));
+        for v in [200, 300, 399] {
+            assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], 0..20, ATTACHED);
+        }
+        // A wall beyond range above it (OTHER, nothing ever measured in those columns) reaching
+        // down to the box: the same hole is that region, not a shadow with no lit wall above it.
+        let labels = classify(&frame(NO_DEPTH, 200..400));
+        for v in [200, 300, 399] {
+            assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], 0..20, OTHER);
+        }
+        // A box reaching the frame's top: its shadow runs down from the first row, whose label
+        // the rows below follow.
+        let labels = classify(&frame(wall, 0..400));
+        for v in [0, 1, 200, 399] {
+            assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], 0..20, ATTACHED);
+        }
     }
 
     #[test]
