@@ -1662,11 +1662,11 @@ mod tests {
     #[test]
     fn hole_between_two_rods_before_a_wall_beyond_range_is_no_shadow_of_the_border() {
         // Two rods before a wall beyond range (all holes): one at 2.43 m over [512, 520), one
-        // at 2.65 m over [590, 594): raw 948 and 960, f·b·(1/2.43 − 1/2.65) = 1.5 px apart. Read as a depthless occluder's
-        // detached shadow, [520, 590) would pair with the hole running off the border,
-        // [594, 640): shift 74 px, lit gap 4 px, "background" within 2 px on all sides. But the
-        // lit gap is not the surface the shadow would lie on (the rods are 1.5 px apart, a step
-        // more than the shadow's own surface allows), so it stays OTHER.
+        // at 2.65 m over [590, 594): raw 948 and 960, f·b·(1/2.43 − 1/2.65) = 1.5 px apart.
+        // Read as a depthless occluder's detached shadow, [520, 590) would pair with the hole
+        // running off the border, [594, 640): shift 74 px, lit gap 4 px, "background" within
+        // 2 px on all sides. But the lit gap is not the surface the shadow would lie on (the
+        // rods are 1.5 px apart, a step more than the shadow's own surface allows): OTHER.
         let (c, _) = params();
         let (near, far) = (raw_at(&c, 2.43), raw_at(&c, 2.65));
         assert_eq!((near, far), (948, 960));
