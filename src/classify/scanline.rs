@@ -1343,12 +1343,14 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
         .map_or(n, |k| start + k);
     // Both holes lie on the same background: lit pixels of its depth on either side of each.
     let background = |u: usize| p.on_background(raw[u], d_bg);
-    // An occluder running off the right border shows only part of its width.
+    // An occluder running off the right border shows only part of its width; a shadow running
+    // off the left border, only part of its own.
     let at_border = end == n;
-    if h.start == 0 || end - start < MIN_DEPTHLESS_WIDTH {
+    let at_left = h.start == 0;
+    if end - start < MIN_DEPTHLESS_WIDTH || (at_left && at_border) {
         return None;
     }
-    if !(background(h.start - 1)
+    if !((at_left || background(h.start - 1))
         && background(h.end)
         && background(start - 1)
         && (at_border || background(end)))
@@ -1367,6 +1369,14 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
     // so the lit gap must be no wider than the shadow (an occluder at least half as wide as its
     // shift, as a rod close to the wall).
     let (shadow_w, occluder_w) = ((h.end - h.start) as f32, (end - start) as f32);
+    if at_left {
+        // The right edges give the shift; the whole shadow, the occluder shifted by it, must
+        // reach past the border (within the widening of its right end), and what shows of it
+        // is at most as wide as the occluder and its widening.
+        let shift = (end - h.end) as f32;
+        let cut = shadow_w <= occluder_w + p.over && start as f32 - shift <= WIDENING;
+        return (cut && d_bg + shift <= p.max_disp).then_some((shift, Run { start, end }));
+    }
     if shadow_w < occluder_w - 1.0
         || (!at_border && shadow_w > occluder_w + p.over)
         || (at_border && (start - h.end) as f32 > shadow_w)
@@ -1483,10 +1493,18 @@ fn classify_left_border(
             },
             labels,
         );
-    } else if let Detached::Measured = detached(p, raw, h, None, sb, rows.near(raw.len())) {
-        // Sb is the background (nothing farther shows): a detached shadow whose left end lies
-        // past the border.
-        set(labels, raw, h.start, h.end, DETACHED);
+    } else {
+        match detached(p, raw, h, None, sb, rows.near(raw.len())) {
+            // Sb is the background (nothing farther shows): a detached shadow whose left end
+            // lies past the border.
+            Detached::Measured => set(labels, raw, h.start, h.end, DETACHED),
+            // The same cast by an occluder that returns no depth: it is warped where it stands.
+            Detached::Depthless { occluder, raw: at } => {
+                set(labels, raw, h.start, h.end, DETACHED);
+                fill(filled, occluder, at);
+            }
+            Detached::No => {}
+        }
     }
 }
 
@@ -1657,6 +1675,27 @@ mod tests {
         let row = wall_with_holes(&c, &[(560, 568), (632, WIDTH)]);
         let (labels, _) = run_with_neighbours(&row, &row, &row);
         assert_run(&labels, 560..568, OTHER);
+    }
+
+    #[test]
+    fn depthless_rods_shadow_cut_by_the_left_border_is_detached() {
+        // A black rod 11 px wide at about 1.3 m before a wall at 3 m stands at [15, 26); its
+        // shadow, shifted left by their right edges' distance, 17 px, would span [-2, 9): the
+        // border cuts it to [0, 9), with the lit wall [9, 15) between. The rod is warped at the
+        // depth of that shift: 1 / (1/3 + 17/(f·b)) = 1.38 m.
+        let (c, _) = params();
+        let row = wall_with_holes(&c, &[(0, 9), (15, 26)]);
+        let (labels, filled) = run_with_neighbours(&row, &row, &row);
+        assert_run(&labels, 0..9, DETACHED);
+        assert_run(&labels, 15..26, OTHER); // the rod itself
+        let z = c.depth_m(filled[20]).unwrap();
+        assert!((z - 1.38).abs() < 0.05, "rod placed at {z:.3} m");
+        // A hole whose shifted self would not reach the border casts no such shadow: a 4 px
+        // dropout [30, 34) is 25 px right of the hole's end, and shifted by that it covers
+        // [5, 9), which leaves [0, 5) unexplained (more than the widening).
+        let row = wall_with_holes(&c, &[(0, 9), (30, 34)]);
+        let (labels, _) = run_with_neighbours(&row, &row, &row);
+        assert_run(&labels, 0..9, OTHER);
     }
 
     #[test]
