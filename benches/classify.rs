@@ -4,7 +4,7 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use umbra::classify::{Classified, Classifier};
-use umbra::labels::{NO_DEPTH, PIXELS, WIDTH};
+use umbra::labels::{upside_down, NO_DEPTH, PIXELS, WIDTH};
 use umbra::Calibration;
 
 /// A busy frame built by hand: wall at 3 m, boxes and rods at 1–2 m with their shadows, a dark
@@ -51,11 +51,6 @@ fn busy_frame(c: &Calibration) -> Vec<u16> {
         }
     }
     f
-}
-
-/// `image` (rows of `row` elements) with its rows in reverse order.
-fn upside_down<T: Copy>(image: &[T], row: usize) -> Vec<T> {
-    image.chunks_exact(row).rev().flatten().copied().collect()
 }
 
 /// A recording's first frame (depth, and RGB when paired) and calibration, if the folder exists.

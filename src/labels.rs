@@ -9,6 +9,12 @@ pub const PIXELS: usize = WIDTH * HEIGHT;
 /// The raw 11-bit value libfreenect uses for "no depth".
 pub const NO_DEPTH: u16 = 2047;
 
+/// `image` (rows of `row` values) with its rows in reverse order: a frame no camera repeats, for
+/// timing the classifier without letting the branch predictor learn one frame's holes.
+pub fn upside_down<T: Copy>(image: &[T], row: usize) -> Vec<T> {
+    image.chunks_exact(row).rev().flatten().copied().collect()
+}
+
 /// Pixel has a depth measurement.
 pub const VALID: u8 = 0;
 /// Projector shadow touching its occluder (Deng et al. eq. 3).

@@ -1646,8 +1646,7 @@ mod tests {
             "the rod itself is a hole"
         );
         // The rod is warped at the depth of a 29 px shift: 1/(1/3 + 29/(f·b)) ≈ 1.00 m.
-        let z = c.depth_m(filled[303]).unwrap();
-        assert!((z - 1.0).abs() < 0.03, "rod placed at {z:.3} m");
+        assert_placed_at(&c, &filled, 303, 1.0, 0.03);
         // The lit wall and the shadow stay at the wall's depth.
         assert_eq!(filled[275], raw_at(&c, 3.0));
     }
@@ -1663,8 +1662,7 @@ mod tests {
         assert_run(&labels, 600..616, DETACHED);
         assert_run(&labels, 630..WIDTH, OTHER); // the rod itself
                                                 // The shift comes from the left edges (30 px, the widening included): about 1 m.
-        let z = c.depth_m(filled[635]).unwrap();
-        assert!((z - 1.0).abs() < 0.05, "rod placed at {z:.3} m");
+        assert_placed_at(&c, &filled, 635, 1.0, 0.05);
         // A visible part wider than the shadow is no occluder of it.
         let row = wall_with_holes(&c, &[(600, 608), (620, WIDTH)]);
         let (labels, _) = run_with_neighbours(&row, &row, &row);
@@ -1688,8 +1686,7 @@ mod tests {
         let (labels, filled) = run_with_neighbours(&row, &row, &row);
         assert_run(&labels, 0..9, DETACHED);
         assert_run(&labels, 15..26, OTHER); // the rod itself
-        let z = c.depth_m(filled[20]).unwrap();
-        assert!((z - 1.38).abs() < 0.05, "rod placed at {z:.3} m");
+        assert_placed_at(&c, &filled, 20, 1.38, 0.05);
         // A hole whose shifted self would not reach the border casts no such shadow: a 4 px
         // dropout [30, 34) is 25 px right of the hole's end, and shifted by that it covers
         // [5, 9), which leaves [0, 5) unexplained (more than the widening).
@@ -1727,8 +1724,7 @@ mod tests {
         let row = wall_with_holes(&c, &[(270, 279), (281, 289)]);
         let (labels, filled) = run_with_neighbours(&row, &row, &row);
         assert_run(&labels, 270..279, DETACHED);
-        let z = c.depth_m(filled[285]).unwrap();
-        assert!((z - 1.78).abs() < 0.05, "rod placed at {z:.3} m");
+        assert_placed_at(&c, &filled, 285, 1.78, 0.05);
         assert_eq!(filled[279], row[279], "the lit gap keeps its depth");
     }
 
@@ -1809,6 +1805,12 @@ mod tests {
     }
 
     /// Asserts that `labels[at]` are all `code`, showing a few pixels around them if not.
+    /// The hole pixel `u` is warped at `z` metres (within `tol`): where its occluder stands.
+    fn assert_placed_at(c: &Calibration, filled: &[u16], u: usize, z: f64, tol: f64) {
+        let at = c.depth_m(filled[u]).unwrap();
+        assert!((at - z).abs() < tol, "rod placed at {at:.3} m, not {z} m");
+    }
+
     fn assert_run(labels: &[u8], at: std::ops::Range<usize>, code: u8) {
         let around = at.start.saturating_sub(5)..(at.end + 5).min(labels.len());
         assert!(

@@ -25,7 +25,7 @@ use crate::capture::replay::ReplaySource;
 use crate::capture::Source;
 use crate::classify::Classifier;
 use crate::error::{Error, Result};
-use crate::labels::{HEIGHT, PIXELS, WIDTH};
+use crate::labels::{upside_down, HEIGHT, PIXELS, WIDTH};
 use crate::pipeline::telemetry::{process_cpu_time, thread_cpu_time};
 use crate::pipeline::Frame;
 use crate::recording::Recording;
@@ -241,16 +241,12 @@ fn classify_speed(dir: PathBuf, frames: usize, seconds: f64, use_rgb: bool) -> R
     Ok(())
 }
 
-/// The `q` quantile of `times` (sorted in place).
+/// The `q` quantile of `times` (sorted in place): exact, where the pipeline's telemetry
+/// histogram would round to its 20 µs buckets, a few percent of a frame's time.
 fn percentile(times: &mut [Duration], q: f64) -> Duration {
     times.sort_unstable();
     let i = ((times.len() - 1) as f64 * q).round() as usize;
     times[i]
-}
-
-/// The rows of `image` (rows of `row` values) in reverse order.
-fn upside_down<T: Copy>(image: &[T], row: usize) -> Vec<T> {
-    image.chunks_exact(row).rev().flatten().copied().collect()
 }
 
 fn zstd_floor(dir: PathBuf, level: i32, rgb: bool, repeat: u64) -> Result<()> {
