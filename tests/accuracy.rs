@@ -976,6 +976,46 @@ fn narrow_shadow_of_a_black_rod_is_split_off_through_a_soft_lens() {
 }
 
 #[test]
+fn glossy_box_shadow_is_split_off_in_a_dim_colour_image() {
+    // The hand-computed box, glossy and grey, its RGB image at 45 % of the brightness (a dim
+    // room, an auto-exposure that keeps it dark: the real frame's median is 81 against 208
+    // here). Every colour difference shrinks with it, the box's from the wall from 117 to 54,
+    // and the colour steps must shrink too: with the bright room's no row was split (290 of
+    // 292 now).
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::box_before_wall(1.0, 3.0);
+    scene.objects[1].material = umbra::synth::Material::glossy([0.5, 0.5, 0.48]);
+    let mut frame = render_frame(&scene, &calib, &SensorModel::ideal(), 4);
+    for b in frame.rgb.iter_mut() {
+        *b = (f64::from(*b) * 0.45).round() as u8;
+    }
+    let row = HEIGHT / 2 * WIDTH;
+    let seen = rgb_distance(&frame.rgb, row + 150, row + 280);
+    assert!((45..65).contains(&seen), "contrast {seen}");
+    let out = classify_rgb(&calib, &frame);
+    let w = calib.fb() * (1.0 / 1.0 - 1.0 / 3.0);
+    let (mut rows, mut split) = (0, 0);
+    for v in 0..HEIGHT {
+        let truth = count_in_row(&frame.ir_labels, v, ATTACHED);
+        let n = count_in_row(&out.ir_labels, v, ATTACHED);
+        if truth == 0 {
+            assert_eq!(n, 0, "row {v}: attached pixels where the box casts none");
+            continue;
+        }
+        rows += 1;
+        if n > 0 {
+            split += 1;
+            assert!(
+                (n as f64 - w).abs() <= 2.5,
+                "row {v}: {n} attached px, hand-computed {w:.2}"
+            );
+        }
+    }
+    assert!(rows > 100, "the box spans {rows} rows");
+    assert!(10 * split >= 9 * rows, "{split} of {rows} rows split");
+}
+
+#[test]
 fn glossy_box_nearly_as_bright_as_the_wall_has_its_shadow_split_off_by_hue() {
     // The hand-computed box, glossy (no depth), nearly as bright as the pale wall but more
     // yellow: in the RGB image it differs from the wall by a sum of |ΔR|, |ΔG|, |ΔB| of 60 to 90,

@@ -697,7 +697,7 @@ impl ColourSplit {
         bg_count[0] = 0;
         for k in 0..n {
             let dx = hue_dist(px(x0 + k as i64), bg_colour);
-            bg_count[k + 1] = bg_count[k] + u32::from(dx < COLOUR_STEP);
+            bg_count[k + 1] = bg_count[k] + u32::from(dx < dimmed(COLOUR_STEP, bg_colour));
         }
         let (misses, t, o1) = self.fit_right_edge(&bg_count[..=n], x0, v, b, bg)?;
         let lo = o1.saturating_sub(OPEN_WINDOW);
@@ -711,7 +711,7 @@ impl ColourSplit {
             && (lo..o1)
                 .map(|k| hue_dist(px(x0 + k as i64), bg_colour))
                 .sum::<u32>()
-                >= OCCLUDER_STEP * occluder_cols)
+                >= dimmed(OCCLUDER_STEP, bg_colour) * occluder_cols)
             .then_some(t)
     }
 
@@ -814,11 +814,12 @@ impl ColourSplit {
             rgb_mean3(rgb, x, y)
         };
         let beside = probe(if c.behind { c.b + 1 } else { c.a - 2 })?;
-        if hue_dist(probe(c.a)?, beside) >= COLOUR_STEP
+        let step = dimmed(COLOUR_STEP, beside);
+        if hue_dist(probe(c.a)?, beside) >= step
             || (c.closed
-                && (hue_dist(probe(c.b + 1)?, beside) > SIDES_AGREE
-                    || (hue_dist(probe((c.a + c.b) / 2)?, beside) < COLOUR_STEP
-                        && hue_dist(probe((c.a + 3 * c.b) / 4)?, beside) < COLOUR_STEP)))
+                && (hue_dist(probe(c.b + 1)?, beside) > dimmed(SIDES_AGREE, beside)
+                    || (hue_dist(probe((c.a + c.b) / 2)?, beside) < step
+                        && hue_dist(probe((c.a + 3 * c.b) / 4)?, beside) < step)))
         {
             return None;
         }
@@ -826,7 +827,7 @@ impl ColourSplit {
             side(c.b..c.b + SIDE)?
         } else if c.closed {
             let (left, right) = (side(c.a - SIDE..c.a)?, side(c.b..c.b + SIDE)?);
-            if hue_dist(left, right) > SIDES_AGREE {
+            if hue_dist(left, right) > dimmed(SIDES_AGREE, beside) {
                 return None;
             }
             std::array::from_fn(|k| (left[k] + right[k]) / 2)
@@ -868,7 +869,7 @@ impl ColourSplit {
         let mut first = None;
         let colour = |k: usize| [3 * k, 3 * k + 1, 3 * k + 2].map(|i| i32::from(pixels[i]));
         for k in 0..pixels.len() / 3 {
-            bg_count[k + 1] = bg_count[k] + u32::from(hue_dist(colour(k), bg) < COLOUR_STEP);
+            bg_count[k + 1] = bg_count[k] + u32::from(hue_dist(colour(k), bg) < step);
             if !c.closed && first.is_none() && k >= 2 && bg_count[k + 1] == bg_count[k - 2] {
                 first = Some(k - 2);
             }
@@ -988,8 +989,8 @@ impl ColourSplit {
         };
         let clear = l.shadow_cols >= 2
             && l.occluder_cols >= 2
-            && 2 * hue_dist(mean(0..l.shadow_cols), bg) <= COLOUR_STEP
-            && sum(occluder) >= OCCLUDER_STEP * l.occluder_cols as u32;
+            && 2 * hue_dist(mean(0..l.shadow_cols), bg) <= dimmed(COLOUR_STEP, bg)
+            && sum(occluder) >= dimmed(OCCLUDER_STEP, bg) * l.occluder_cols as u32;
         (clear && 10 * l.hits >= 9 * n && l.hits >= no_shadow + l.shadow_cols / 2)
             .then_some((s, shift.unwrap_or(s)))
     }
@@ -1022,6 +1023,20 @@ fn rgb_mean3(rgb: &[u8], x: f64, y: f64) -> Option<[i32; 3]> {
         (0..3).for_each(|k| sum[k] += i32::from(rgb[3 * (row + i) + k]));
     }
     Some(sum.map(|s| s / n))
+}
+
+/// Brightness (R + G + B) of a background at and above which the colour steps apply as they are
+/// (a pale wall in room light); below it they shrink in proportion, down to [`DIM_FLOOR`]: in an
+/// image half as bright every colour difference is half as large.
+const BRIGHT: i32 = 540;
+/// Brightness below which the steps shrink no further (the camera's noise does not).
+const DIM_FLOOR: i32 = 240;
+
+/// `step` for a background of colour `bg` (see [`BRIGHT`]).
+#[inline]
+fn dimmed(step: u32, bg: [i32; 3]) -> u32 {
+    let b = (bg[0] + bg[1] + bg[2]).clamp(DIM_FLOOR, BRIGHT);
+    step * b as u32 / BRIGHT as u32
 }
 
 /// Brightness part of [`hue_dist`]: the sum of |ΔR| + |ΔG| + |ΔB|.
