@@ -297,3 +297,69 @@ fn bench_classify_times_each_frame_and_its_mirror_next_to_a_plain_copy() {
         "{err}"
     );
 }
+
+#[test]
+fn synth_takes_the_colour_cameras_noise_and_exposure() {
+    let tmp = tempfile::tempdir().unwrap();
+    let make = |name: &str, extra: &[&str]| {
+        let (rec, gt) = (tmp.path().join(name), tmp.path().join(format!("{name}-gt")));
+        let (rec, gt) = (rec.display().to_string(), gt.display().to_string());
+        let mut args = vec![
+            "synth", &rec, "--gt", &gt, "--scene", "box", "--frames", "1",
+        ];
+        args.extend_from_slice(&["--ideal", "--seed", "3"]);
+        args.extend_from_slice(extra);
+        umbra(&args);
+        let mut rgb = vec![0u8; 3 * PIXELS];
+        assert!(Recording::open(Path::new(&rec))
+            .unwrap()
+            .read_rgb(0, &mut rgb)
+            .unwrap());
+        (
+            rgb,
+            std::fs::read_to_string(Path::new(&gt).join("meta.toml")).unwrap(),
+        )
+    };
+    let (clean, _) = make("clean", &[]);
+    let (dim, meta) = make("dim", &["--rgb-gain", "0.5", "--rgb-noise", "6"]);
+    assert!(
+        meta.contains("rgb_gain = 0.5") && meta.contains("rgb_noise_sigma = 6.0"),
+        "{meta}"
+    );
+    // The same scene at half the exposure, plus Gaussian noise of σ = 6 on every value (away
+    // from black and from clipping, where the noise is cut).
+    let residuals: Vec<f64> = clean
+        .iter()
+        .zip(&dim)
+        .filter(|&(&c, _)| (40..=240).contains(&c))
+        .map(|(&c, &d)| f64::from(d) - f64::from(c) * 0.5)
+        .collect();
+    let n = residuals.len() as f64;
+    assert!(n > 0.5 * (3 * PIXELS) as f64, "{n} values in range");
+    let mean = residuals.iter().sum::<f64>() / n;
+    let sigma = (residuals.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / n).sqrt();
+    assert!(mean.abs() < 0.3, "mean residual {mean:.2}");
+    assert!((sigma - 6.0).abs() < 0.3, "noise σ {sigma:.2}");
+
+    // Out-of-range values are one-line errors naming the flag.
+    for (flag, value) in [
+        ("--rgb-noise", "100"),
+        ("--rgb-gain", "0"),
+        ("--rgb-gain", "nan"),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_umbra"))
+            .args([
+                "synth",
+                "--suite",
+                &tmp.path().join("x").display().to_string(),
+            ])
+            .args([flag, value])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(flag),
+            "{flag} {value}: {err}"
+        );
+    }
+}

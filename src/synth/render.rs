@@ -239,7 +239,7 @@ pub fn render_rgb(
                 &lamp,
                 m,
                 obj,
-                sensor.rgb_noise_sigma,
+                (sensor.rgb_gain, sensor.rgb_noise_sigma),
                 rng,
             );
             if p.z <= 0.0 {
@@ -264,8 +264,8 @@ pub fn render_rgb(
     (rgb, labels, fg)
 }
 
-/// Colour of one RGB pixel: material colour × (ambient + Lambert) × a little 3-D texture, plus
-/// noise, gamma-encoded.
+/// Colour of one RGB pixel: material colour × (ambient + Lambert) × a little 3-D texture,
+/// gamma-encoded, times the camera's gain, plus noise (`camera`: gain and noise σ).
 #[allow(clippy::too_many_arguments)]
 fn shade(
     out: &mut [u8],
@@ -275,7 +275,7 @@ fn shade(
     lamp: &V3,
     m: &Material,
     obj: usize,
-    noise: f64,
+    (gain, noise): (f64, f64),
     rng: &mut impl Rng,
 ) {
     let n = if normal.dot(d) > 0.0 {
@@ -293,7 +293,9 @@ fn shade(
         } else {
             0.0
         };
-        *o = (255.0 * lin.powf(1.0 / 2.2) + n).round().clamp(0.0, 255.0) as u8;
+        *o = (255.0 * gain * lin.powf(1.0 / 2.2) + n)
+            .round()
+            .clamp(0.0, 255.0) as u8;
     }
 }
 
