@@ -583,6 +583,23 @@ fn alignment_strip_starts_at_the_colour_edge_of_a_box_as_bright_as_the_wall() {
 }
 
 #[test]
+fn alignment_strip_starts_at_the_colour_edge_of_a_box_as_bright_as_the_wall_in_a_dim_image() {
+    // The test above with the RGB image at 45 % of its brightness (about as dark as the real NYU
+    // frame): the box's hue contrast shrinks with it, under the edge tests' steps when those
+    // stayed at the bright room's, and 19 of 780 rows fell back to depth alone. The steps
+    // follow the wall's brightness: 780 of 780.
+    let dim = |rgb: &[u8]| -> Vec<u8> {
+        rgb.iter()
+            .map(|&b| (f64::from(b) * 0.45).round() as u8)
+            .collect()
+    };
+    let box_colour = umbra::synth::Material::matte([0.72, 0.8, 0.84]);
+    let s = box_strip_starts(Some(box_colour), 80, dim);
+    assert!(s.rows > 300, "{} rows cross the box", s.rows);
+    assert!(100 * s.exact_rgb >= 99 * s.rows, "{s:?}");
+}
+
+#[test]
 fn alignment_strip_starts_at_the_dark_silhouette_of_a_pale_rod() {
     // A rod 1.6 cm thick at 1.9 m before a wall at 2.7 m, through the Kinect sensor model, in a
     // colour close to the wall's: lit from beside the camera, its middle is nearly as bright as

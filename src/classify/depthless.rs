@@ -1034,7 +1034,7 @@ const DIM_FLOOR: i32 = 240;
 
 /// `step` for a background of colour `bg` (see [`BRIGHT`]).
 #[inline]
-fn dimmed(step: u32, bg: [i32; 3]) -> u32 {
+pub(crate) fn dimmed(step: u32, bg: [i32; 3]) -> u32 {
     let b = (bg[0] + bg[1] + bg[2]).clamp(DIM_FLOOR, BRIGHT);
     step * b as u32 / BRIGHT as u32
 }
