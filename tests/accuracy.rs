@@ -371,6 +371,37 @@ fn two_black_rods_whose_holes_chain_are_told_apart_by_colour() {
 }
 
 #[test]
+fn two_glossy_rods_whose_holes_chain_are_told_apart_by_colour_in_a_dim_image() {
+    // The two rods above, glossy brick-red instead of black, the RGB image at 45 % exposure
+    // (about as dark as the real NYU frame): the rods differ from the wall by less than the bright
+    // room's colour steps, which paired nothing (detached F1 0.000); the steps follow the wall's
+    // brightness.
+    let calib = Calibration::nyu_default();
+    let red = umbra::synth::Material::glossy([0.6, 0.3, 0.25]);
+    let mut scene = Scene::rod_before_wall(0.0, 1.0, 0.006, 3.0);
+    scene.objects[1].material = red;
+    let rod_b = Scene::rod_before_wall(16.0 / calib.depth.fx, 1.0, 0.006, 3.0).objects[1].clone();
+    scene.push("rod", rod_b.shape, red);
+    let dim = SensorModel {
+        rgb_gain: 0.45,
+        ..SensorModel::kinect()
+    };
+    let mut with_rgb = Confusion::default();
+    for seed in 0..3 {
+        let frame = render_frame(&scene, &calib, &dim, 60 + seed);
+        with_rgb.add(&frame.ir_labels, &classify_rgb(&calib, &frame).ir_labels);
+    }
+    at_least(
+        &with_rgb,
+        Some(DETACHED),
+        0.9,
+        "IR detached of two chained glossy rods, dim",
+    );
+    let any = with_rgb.any_shadow();
+    assert!(any.precision.unwrap() >= 0.98, "IR any shadow {any:?}");
+}
+
+#[test]
 fn alignment_strip_starts_at_the_colour_edge_of_the_box() {
     // The hand-computed box, through the Kinect sensor model (noise, mixed pixels at edges). Its
     // right front edge (x = 0.2 m, z = 1 m) is at f_rgb·(0.2 − 0.025)/1 + cx_rgb = 416.4 in the

@@ -13,7 +13,7 @@
 //! row: no search along the row, which keeps the many holes of a real frame cheap.
 
 use super::{
-    ceil, hole_span, hue_dist, rgb_at, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE, SIDES_AGREE,
+    ceil, dimmed, hole_span, hue_dist, rgb_at, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE, SIDES_AGREE,
 };
 use crate::labels::{DETACHED, NO_DEPTH, OTHER, WIDTH};
 
@@ -151,11 +151,13 @@ impl ColourSplit {
             return false;
         };
         let bg = match mean(h.b..h.b + SIDE, h.bg) {
-            Some(right) if hue_dist(left, right) <= SIDES_AGREE => {
+            Some(right) if hue_dist(left, right) <= dimmed(SIDES_AGREE, left) => {
                 std::array::from_fn(|k| (left[k] + right[k]) / 2)
             }
             _ => left,
         };
+        // The colour steps for this background's brightness.
+        let step = dimmed(COLOUR_STEP, bg);
         // The occluder's RGB columns.
         let at = self.raw_at_disp(self.disp(o.bg) + shift as f64);
         let (x0, y) = self.project(o.a as f64 - 0.5, v, at);
@@ -170,11 +172,11 @@ impl ColourSplit {
                 return false;
             };
             let d = hue_dist(p, bg);
-            far += u32::from(d >= COLOUR_STEP);
+            far += u32::from(d >= step);
             sum += d;
         }
         let cols = (x1 - x0) as u32;
-        if 2 * far < cols + 1 || sum < 2 * COLOUR_STEP * cols {
+        if 2 * far < cols + 1 || sum < 2 * step * cols {
             return false;
         }
         // The shadow's left third: the RGB camera may see a nearer occluder right of it moved
@@ -182,7 +184,7 @@ impl ColourSplit {
         // thin rod's own hole shows background too, its image being moved left of it.)
         (h.a..h.a + (h.b - h.a).div_ceil(3)).all(|u| {
             let (x, y) = self.project(u as f64, v, h.bg);
-            colour_at(x, y).is_some_and(|p| hue_dist(p, bg) < COLOUR_STEP)
+            colour_at(x, y).is_some_and(|p| hue_dist(p, bg) < step)
         })
     }
 }
