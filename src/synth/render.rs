@@ -265,7 +265,7 @@ pub fn render_rgb(
 }
 
 /// Colour of one RGB pixel: material colour × (ambient + Lambert) × a little 3-D texture,
-/// gamma-encoded, times the camera's gain, plus noise (`camera`: gain and noise σ).
+/// gamma-encoded, times the camera's gain, plus noise of σ (the pair `(gain, noise)`).
 #[allow(clippy::too_many_arguments)]
 fn shade(
     out: &mut [u8],

@@ -13,7 +13,8 @@
 //! row: no search along the row, which keeps the many holes of a real frame cheap.
 
 use super::{
-    ceil, dimmed, hole_span, hue_dist, rgb_at, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE, SIDES_AGREE,
+    ceil, dimmed, hole_span, hue_dist, rgb_at, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE,
+    SIDES_AGREE,
 };
 use crate::labels::{DETACHED, NO_DEPTH, OTHER, WIDTH};
 
