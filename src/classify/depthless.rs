@@ -598,7 +598,10 @@ impl ColourSplit {
 
     /// The shift of an occluder filling the hole `[a, b)` of row `v` up to the background on its
     /// right, read from where the RGB camera sees that edge ([`ColourSplit::right_edge`]), if
-    /// the rows above and below, holes ending within a pixel of `b`, agree.
+    /// the rows above and below, holes ending within a pixel of `b`, agree. (They once had to
+    /// end at `b` itself, which a slanted edge denies every other row: complex RGB alignment F1
+    /// +0.0004 to +0.019 on twelve suites of fourteen, the others unchanged, for about 2 % more
+    /// instructions on the real frame, whose ragged hole ends reach the colour test more often.)
     fn agreed_right_edge(
         &self,
         raw: &[u16],
@@ -616,27 +619,38 @@ impl ColourSplit {
             && cur[a - 1] != NO_DEPTH
             && self.disp(cur[a - 1]) - self.disp(cur[b]) > SAME_SURFACE;
         let min_w = if hidden { MIN_HOLE } else { 2 * MIN_HOLE };
-        let hole = |w: usize| {
+        // The hole of row `w` through column `b − 1` (or `b − 2`), if it ends within `slant` of
+        // `b` (a slanted edge moves a pixel or so a row) and the edge can be read from it.
+        let hole = |w: usize, slant: usize| {
             let row = &raw[w * WIDTH..(w + 1) * WIDTH];
-            if b + SIDE > WIDTH || row[b - 1] != NO_DEPTH || row[b] == NO_DEPTH {
+            let at = [b - 1, b - 2]
+                .into_iter()
+                .take(slant + 1)
+                .find(|&x| row[x] == NO_DEPTH)?;
+            let (a, end) = hole_span(&self.masks[w], row, at);
+            if end.abs_diff(b) > slant || end + SIDE > WIDTH || row[end] == NO_DEPTH {
                 return None;
             }
-            let (a, end) = hole_span(&self.masks[w], row, b - 1);
             let others = labels[w * WIDTH + a..w * WIDTH + end]
                 .iter()
                 .zip(&row[a..end])
                 .any(|(&l, &r)| r == NO_DEPTH && l != OTHER && w >= v);
-            (end == b && end - a >= min_w && !others).then_some((a, end))
+            (end - a >= min_w && !others).then_some((a, end))
         };
         // This row's hole is `[a, b)` itself.
         if b - a < min_w {
             return None;
         }
-        hole(v)?;
-        let (above, below) = (hole(v - 1)?, hole(v + 1)?);
+        hole(v, 0)?;
+        let (above, below) = (hole(v - 1, 1)?, hole(v + 1, 1)?);
+        // Along a slanted edge the ends move one way through the three rows.
+        let ends = (above.1, below.1);
+        if !(ends.0 <= b && b <= ends.1 || ends.0 >= b && b >= ends.1) {
+            return None;
+        }
         let t = self.right_edge(rgb, v, (a, b), raw[v * WIDTH + b], prefix)?;
         let mut agrees = |w: usize, span: (usize, usize)| {
-            self.right_edge(rgb, w, span, raw[w * WIDTH + b], prefix)
+            self.right_edge(rgb, w, span, raw[w * WIDTH + span.1], prefix)
                 .is_some_and(|u| u.abs_diff(t) <= EDGE_AGREE)
         };
         (agrees(v - 1, above) && agrees(v + 1, below)).then_some(t)
