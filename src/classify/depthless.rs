@@ -709,9 +709,10 @@ impl ColourSplit {
         let n = (x1 - x0) as usize;
         let bg_count = &mut prefix.bg_count[..];
         bg_count[0] = 0;
+        let step = dimmed(COLOUR_STEP, bg_colour);
         for k in 0..n {
             let dx = hue_dist(px(x0 + k as i64), bg_colour);
-            bg_count[k + 1] = bg_count[k] + u32::from(dx < dimmed(COLOUR_STEP, bg_colour));
+            bg_count[k + 1] = bg_count[k] + u32::from(dx < step);
         }
         let (misses, t, o1) = self.fit_right_edge(&bg_count[..=n], x0, v, b, bg)?;
         let lo = o1.saturating_sub(OPEN_WINDOW);
