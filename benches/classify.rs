@@ -126,17 +126,17 @@ fn bench(c: &mut Criterion) {
         // Each later stage is timed on what the stages before it make of this frame, computed
         // here whichever benchmarks a filter selects (restored before each run, untimed).
         let (mut labels, mut fill) = (vec![0u8; PIXELS], vec![0u16; PIXELS]);
-        umbra::classify::scanline::classify_frame(&scan, frame, &mut labels, &mut fill);
+        let facts = umbra::classify::scanline::classify_frame(&scan, frame, &mut labels, &mut fill);
         if let Some(rgb) = rgb {
             let mut split = umbra::classify::depthless::ColourSplit::new(cal);
             g.bench_function(format!("stage_colour_split/{name}"), |b| {
                 b.iter_batched_ref(
                     || (labels.clone(), fill.clone()),
-                    |(l, f)| split.apply(black_box(frame), rgb, l, f),
+                    |(l, f)| split.apply(black_box(frame), rgb, facts, l, f),
                     criterion::BatchSize::LargeInput,
                 )
             });
-            split.apply(frame, rgb, &mut labels, &mut fill);
+            split.apply(frame, rgb, facts, &mut labels, &mut fill);
         }
         // The vertical consensus of the IR view's labels, as the classifier first runs it.
         g.bench_function(format!("stage_consensus/{name}"), |b| {

@@ -27,7 +27,7 @@
 
 use super::align::Simd;
 use super::holes::HoleMask;
-use super::scanline::{beyond_range_span, Range};
+use super::scanline::{beyond_range_span, FrameFacts, Range};
 use crate::calib::Calibration;
 use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
@@ -115,7 +115,7 @@ pub struct ColourSplit {
     /// Scratch for [`ColourSplit::split`], reused so that nothing is zeroed or allocated per hole.
     prefix: Prefix,
     /// How many pixels the sensor's widening adds to a shadow's left end in the current frame
-    /// ([`ColourSplit::left_widening`]).
+    /// ([`FrameFacts::left_widening`]).
     widen: f64,
 }
 
@@ -131,11 +131,6 @@ struct Prefix {
     /// Recent holes of the row, for [`ColourSplit::detached_pair`].
     recent: pairs::Recent,
 }
-
-/// Attached holes a frame needs before its own widening is trusted; with fewer, shadows are
-/// taken as wide as geometry says (assuming a real Kinect's 1 px there cost the hand-computed
-/// black box at a slanted edge 2.7 px in a noise-free frame that has no other shadow).
-const MIN_WIDENING_SAMPLES: u32 = 16;
 
 /// Splits remembered (rows are visited in order, so a few suffice).
 const MEMO: usize = 8;
@@ -212,30 +207,26 @@ impl ColourSplit {
     /// Splits merged holes of frame `raw` (IR view) using the RGB image `rgb` (RGB8, 640·480):
     /// the shadow part becomes ATTACHED in `labels` (DETACHED behind an occluder narrower than
     /// its shift), and the occluder part of `filled` is set to the raw value its shadow (or its
-    /// right edge) implies, so the warp puts it where it stands.
-    pub fn apply(&mut self, raw: &[u16], rgb: &[u8], labels: &mut [u8], filled: &mut [u16]) {
-        self.apply_in_range(raw, rgb, Range::of(raw), labels, filled);
-    }
-
-    /// [`ColourSplit::apply`] with the frame's range as the scanline found it
-    /// ([`classify_frame`](super::scanline::classify_frame) returns it): part of a shadow split
-    /// off on a surface receding past the range is OTHER, as the scanline's own are.
-    pub fn apply_in_range(
+    /// right edge) implies, so the warp puts it where it stands. `labels`, `filled` and `facts`
+    /// are the scanline's ([`classify_frame`](super::scanline::classify_frame)): part of a
+    /// shadow split off on a surface receding past the range is OTHER, as the scanline's own
+    /// are, and a shadow's width less the sensor's widening is its occluder's shift.
+    pub fn apply(
         &mut self,
         raw: &[u16],
         rgb: &[u8],
-        range: Range,
+        facts: FrameFacts,
         labels: &mut [u8],
         filled: &mut [u16],
     ) {
         // SAFETY: each build runs only when the CPU reported its features at construction.
         #[cfg(target_arch = "x86_64")]
         match self.simd {
-            Simd::Avx512 => return unsafe { self.apply_avx512(raw, rgb, range, labels, filled) },
-            Simd::Avx2 => return unsafe { self.apply_avx2(raw, rgb, range, labels, filled) },
+            Simd::Avx512 => return unsafe { self.apply_avx512(raw, rgb, facts, labels, filled) },
+            Simd::Avx2 => return unsafe { self.apply_avx2(raw, rgb, facts, labels, filled) },
             Simd::Baseline => {}
         }
-        self.apply_body(raw, rgb, range, labels, filled);
+        self.apply_body(raw, rgb, facts, labels, filled);
     }
 
     /// Runs the given build of the row loop (tests compare the builds).
@@ -251,11 +242,11 @@ impl ColourSplit {
         &mut self,
         raw: &[u16],
         rgb: &[u8],
-        range: Range,
+        facts: FrameFacts,
         labels: &mut [u8],
         filled: &mut [u16],
     ) {
-        self.apply_body(raw, rgb, range, labels, filled);
+        self.apply_body(raw, rgb, facts, labels, filled);
     }
 
     /// The row loop compiled for AVX-512.
@@ -265,11 +256,11 @@ impl ColourSplit {
         &mut self,
         raw: &[u16],
         rgb: &[u8],
-        range: Range,
+        facts: FrameFacts,
         labels: &mut [u8],
         filled: &mut [u16],
     ) {
-        self.apply_body(raw, rgb, range, labels, filled);
+        self.apply_body(raw, rgb, facts, labels, filled);
     }
 
     #[inline(always)]
@@ -277,10 +268,11 @@ impl ColourSplit {
         &mut self,
         raw: &[u16],
         rgb: &[u8],
-        range: Range,
+        facts: FrameFacts,
         labels: &mut [u8],
         filled: &mut [u16],
     ) {
+        let range = facts.range;
         // The range its shadows are held to: the scanline's, a raw unit further on.
         let split_range = Range {
             far: range.far.saturating_add(RANGE_MARGIN),
@@ -292,7 +284,7 @@ impl ColourSplit {
         for (mask, row) in self.masks.iter_mut().zip(raw.chunks_exact(WIDTH)) {
             *mask = HoleMask::of(row);
         }
-        self.widen = self.left_widening(raw, labels);
+        self.widen = facts.left_widening;
         for v in 1..HEIGHT - 1 {
             let row = &raw[v * WIDTH..(v + 1) * WIDTH];
             let mask = &self.masks[v];
@@ -432,52 +424,6 @@ impl ColourSplit {
             .filter(|&w| in_row(w).is_some_and(|end| end.abs_diff(nearest) <= 1))
             .count();
         (seen >= 2).then_some(nearest)
-    }
-
-    /// How many pixels the sensor's widening adds to a shadow's left end in this frame: half the
-    /// median by which the scanline's attached holes (bounded by their background on the left
-    /// and their occluder on the right) are wider than eq. (3) says, which is about 2 px on a
-    /// real Kinect (SPEC §1) and 0 on noise-free geometry; 0 in a frame with fewer than
-    /// [`MIN_WIDENING_SAMPLES`] such holes. A split measures its shadow from the
-    /// hole's first pixel, so the occluder's shift is the width less this (else the occluder
-    /// stands a little nearer than it is, and its edge is looked for too far left in the RGB
-    /// image, which a wider shadow then makes up for).
-    fn left_widening(&self, raw: &[u16], labels: &[u8]) -> f64 {
-        // Half-pixel bins of the excess from −3 to +5 px. Wider holes are no sensor's widening
-        // alone: a curved occluder's silhouette, seen by the projector and the camera at
-        // different tangents, makes one object's every row some 5 px wider, enough rows to move
-        // a frame's median by two pixels.
-        const BINS: usize = 17;
-        let mut hist = [0u32; BINS];
-        for (v, mask) in self.masks.iter().enumerate() {
-            let row = &raw[v * WIDTH..(v + 1) * WIDTH];
-            let mut a = mask.next_hole(1);
-            while a < WIDTH {
-                let b = mask.next_valid(a);
-                if b < WIDTH && labels[v * WIDTH + a] == ATTACHED && row[b] < row[a - 1] {
-                    let w = self.k * f64::from(row[a - 1] - row[b]);
-                    let excess = (b - a) as f64 - w;
-                    if w >= 2.0 && (-3.0..5.0).contains(&excess) {
-                        hist[((excess + 3.0) * 2.0).round() as usize] += 1;
-                    }
-                }
-                a = mask.next_hole(b);
-            }
-        }
-        let n: u32 = hist.iter().sum();
-        if n < MIN_WIDENING_SAMPLES {
-            return 0.0;
-        }
-        let mut seen = 0;
-        let bin = hist
-            .iter()
-            .position(|&h| {
-                seen += h;
-                2 * seen >= n
-            })
-            .unwrap_or(0);
-        let median = bin as f64 / 2.0 - 3.0;
-        (median / 2.0).clamp(0.0, 2.0)
     }
 
     /// The widest attached shadow on a background at `raw` (pixels): its occluder at the
@@ -1175,44 +1121,6 @@ fn span_end(mask: &HoleMask, row: &[u16], u: usize) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::labels::{PIXELS, VALID};
-
-    /// A wall at raw 1000 with, in each of `rows` rows, a hole whose left end the sensor widened
-    /// by `excess` px beside an occluder at raw 840: eq. (3) gives (1000 − 840)·k px of shadow.
-    fn widened_frame(split: &ColourSplit, rows: usize, excess: usize) -> (Vec<u16>, Vec<u8>) {
-        let (bg, fg) = (1000u16, 840u16);
-        let w = (split.k * f64::from(bg - fg)).round() as usize;
-        let mut raw = vec![bg; PIXELS];
-        let mut labels = vec![VALID; PIXELS];
-        for v in (10..10 + 2 * rows).step_by(2) {
-            let row = v * WIDTH;
-            raw[row + 100 + w + excess..row + 200].fill(fg);
-            raw[row + 100..row + 100 + w + excess].fill(NO_DEPTH);
-            labels[row + 100..row + 100 + w + excess].fill(ATTACHED);
-        }
-        (raw, labels)
-    }
-
-    #[test]
-    fn left_widening_is_half_the_frames_excess_over_eq_3() {
-        let calib = Calibration::nyu_default();
-        let mut split = ColourSplit::new(&calib);
-        for (excess, widen) in [(0, 0.0), (2, 1.0), (3, 1.5)] {
-            let (raw, labels) = widened_frame(&split, 40, excess);
-            for (mask, row) in split.masks.iter_mut().zip(raw.chunks_exact(WIDTH)) {
-                *mask = HoleMask::of(row);
-            }
-            let got = split.left_widening(&raw, &labels);
-            // Half-pixel bins of the excess: within a quarter pixel.
-            assert!((got - widen).abs() <= 0.25, "excess {excess}: {got}");
-        }
-        // Too few attached holes to tell: none.
-        let (raw, labels) = widened_frame(&split, 5, 3);
-        for (mask, row) in split.masks.iter_mut().zip(raw.chunks_exact(WIDTH)) {
-            *mask = HoleMask::of(row);
-        }
-        assert_eq!(split.left_widening(&raw, &labels), 0.0);
-    }
 
     #[test]
     fn integer_round_and_ceil_match_the_float_ones() {

@@ -99,11 +99,11 @@ impl Classifier {
     /// also the attached shadows of occluders that return no depth ([`depthless`]).
     pub fn classify_with_rgb(&mut self, raw: &[u16], rgb: Option<&[u8]>, out: &mut Classified) {
         assert_eq!(raw.len(), PIXELS, "a frame has 640x480 raw values");
-        let range = scanline::classify_frame(&self.scan, raw, &mut out.ir_labels, &mut self.filled);
+        let facts = scanline::classify_frame(&self.scan, raw, &mut out.ir_labels, &mut self.filled);
         if let Some(rgb) = rgb {
             assert_eq!(rgb.len(), 3 * PIXELS, "an RGB image has 640x480x3 bytes");
             self.colour
-                .apply_in_range(raw, rgb, range, &mut out.ir_labels, &mut self.filled);
+                .apply(raw, rgb, facts, &mut out.ir_labels, &mut self.filled);
         }
         consensus::settle(&mut out.ir_labels);
         self.warp.apply_with_colour(
