@@ -945,10 +945,16 @@ fn round_bits(x: f32) -> u32 {
     (x + MAGIC).to_bits() & 0x7f_ffff
 }
 
-/// Nearest integer of `x` as a float, for `|x| < 2²²`.
+/// Nearest integer of `x` as a float, for `|x| < 2²²`: adding 1.5·2²³ leaves the sum in
+/// [2²³, 2²⁴), where floats are the integers, for either sign of `x`. (With 2²³, as
+/// [`round_bits`] adds, a small negative `x` lands below 2²³, among the halves, and rounded to
+/// −0.5: a pixel a hair left of the RGB image's first column or above its first row, which a
+/// calibration with a rotation or a sideways offset of the RGB camera gives, was then put at
+/// index −0.5 and scattered out of the image.)
 #[inline(always)]
 fn round_f32(x: f32) -> f32 {
-    (x + MAGIC) - MAGIC
+    const MAGIC_SIGNED: f32 = 12_582_912.0; // 1.5·2^23
+    (x + MAGIC_SIGNED) - MAGIC_SIGNED
 }
 
 /// `x` clamped to `[lo, hi]` with plain compares (one vector min/max each; NaN gives `lo`),

@@ -122,6 +122,7 @@ impl Classifier {
 mod tests {
     use super::align::Simd;
     use super::*;
+    use crate::labels::WIDTH;
     use crate::synth::{random_scene, render_frame, sensor_for, Category};
 
     /// The warp's projection without division, for a calibration whose RGB camera is only
@@ -172,25 +173,12 @@ mod tests {
     #[test]
     fn every_simd_build_gives_identical_output() {
         let calib = Calibration::nyu_default();
-        let mut levels = vec![Simd::Baseline];
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-                levels.push(Simd::Avx2);
-            }
-            if Simd::detect() == Simd::Avx512 {
-                levels.push(Simd::Avx512);
-            }
-        }
         for seed in [3, 8] {
             let scene = random_scene(Category::Complex, seed);
             let frame = render_frame(&scene, &calib, &sensor_for(Category::Complex), seed);
             let mut outputs = Vec::new();
-            for &level in &levels {
-                let mut c = Classifier::new(&calib);
-                c.scan.set_simd(level);
-                c.colour.set_simd(level);
-                c.warp.set_simd(level);
+            for level in simd_levels() {
+                let c = &mut with_simd(&calib, level);
                 let mut out = Classified::default();
                 c.classify_with_rgb(&frame.raw, Some(&frame.rgb), &mut out);
                 // A second frame through the same classifier: its scratch state resets cleanly.
@@ -212,6 +200,69 @@ mod tests {
                     base.registered_mm == out.registered_mm,
                     "registered depth: {level:?} vs {base_level:?}"
                 );
+            }
+        }
+    }
+
+    /// The builds of the hot loops this CPU runs.
+    fn simd_levels() -> Vec<Simd> {
+        let mut levels = vec![Simd::Baseline];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+                levels.push(Simd::Avx2);
+            }
+            if Simd::detect() == Simd::Avx512 {
+                levels.push(Simd::Avx512);
+            }
+        }
+        levels
+    }
+
+    /// A classifier for `calib` running the `level` build of every hot loop.
+    fn with_simd(calib: &Calibration, level: Simd) -> Classifier {
+        let mut c = Classifier::new(calib);
+        c.scan.set_simd(level);
+        c.colour.set_simd(level);
+        c.warp.set_simd(level);
+        c
+    }
+
+    /// An RGB camera that sees the IR image's first column and first row a third of a pixel left
+    /// of and above its own image (a rotation, or an offset sideways or up, gives such corners):
+    /// those pixels land in its first column and row, in every build. They used to be rounded
+    /// to −0.5 and put at a negative index: out of the image, and out of bounds of the colour
+    /// image the warp prefetches at depth edges (a panic), found by feeding random valid
+    /// calibrations.
+    #[test]
+    fn pixels_a_hair_outside_the_rgb_image_land_in_its_first_row_and_column() {
+        let mut calib = Calibration::nyu_default();
+        // By hand at 2 m: IR column 0 lands at x = 518.86·(−313.04/582.62 − 0.025/2) + cx
+        // = cx − 285.27, IR row 0 at y = 519.47·(−238.44/582.69) + cy = cy − 212.57: both at
+        // −0.35, whose footprints (0.89 RGB px wide) cover the first column's and row's centres.
+        calib.rgb.cx = 284.92;
+        calib.rgb.cy = 212.22;
+        let wall = calib.raw_from_depth(2.0).round() as u16;
+        let mut raw = vec![wall; PIXELS];
+        // A box at 1 m in the top left: depth edges in the first rows, where the warp reads the
+        // colour image.
+        let near = calib.raw_from_depth(1.0).round() as u16;
+        for v in 0..100 {
+            raw[v * WIDTH + 100..v * WIDTH + 200].fill(near);
+        }
+        let rgb = vec![128u8; 3 * PIXELS];
+        for level in simd_levels() {
+            let mut out = Classified::default();
+            with_simd(&calib, level).classify_with_rgb(&raw, Some(&rgb), &mut out);
+            let at = |v: usize, u: usize| out.registered_mm[v * WIDTH + u];
+            for k in 0..60 {
+                for (v, u) in [(0, k), (k + 100, 0)] {
+                    assert!(
+                        at(v, u).abs_diff(2000) <= 10,
+                        "{level:?}: RGB ({u}, {v}) at {} mm",
+                        at(v, u)
+                    );
+                }
             }
         }
     }
