@@ -122,8 +122,9 @@ impl Classifier {
 mod tests {
     use super::align::Simd;
     use super::*;
-    use crate::labels::WIDTH;
+    use crate::labels::{ALIGNMENT, HEIGHT, NO_DEPTH, OTHER, VALID, WIDTH};
     use crate::synth::{random_scene, render_frame, sensor_for, Category};
+    use rand::Rng;
 
     /// The warp's projection without division, for a calibration whose RGB camera is only
     /// shifted along x, places every pixel where the general projection does: on busy simulated
@@ -262,6 +263,119 @@ mod tests {
                         "{level:?}: RGB ({u}, {v}) at {} mm",
                         at(v, u)
                     );
+                }
+            }
+        }
+    }
+
+    /// A calibration `validate` accepts, picked at random among the kinds of change it allows
+    /// (any rotation, offsets up to half a metre, focal lengths and principal points anywhere in
+    /// range, other raw models).
+    fn random_calibration(rng: &mut impl Rng) -> Calibration {
+        let mut c = Calibration::nyu_default();
+        match rng.random_range(0..5) {
+            0 => {}
+            1 => {
+                let axis = nalgebra::Vector3::from_fn(|_, _| rng.random::<f64>() - 0.5);
+                let angle = rng.random_range(-3.1..3.1);
+                c.depth_to_rgb.rotation = *nalgebra::Rotation3::from_axis_angle(
+                    &nalgebra::Unit::new_normalize(axis),
+                    angle,
+                )
+                .matrix();
+            }
+            2 => {
+                c.depth_to_rgb.translation =
+                    nalgebra::Vector3::from_fn(|_, _| rng.random_range(-0.49..0.49));
+            }
+            3 => {
+                for k in [&mut c.depth, &mut c.rgb] {
+                    k.fx = rng.random_range(51.0..4999.0);
+                    k.fy = (k.fx * rng.random_range(0.85..1.15)).clamp(51.0, 4999.0);
+                    k.cx = rng.random_range(0.0..640.0);
+                    k.cy = rng.random_range(0.0..480.0);
+                }
+            }
+            _ => {
+                c.raw.numerator = rng.random_range(11.0..9999.0);
+                c.raw.denominator = rng.random_range(101.0..4096.0);
+                c.raw.baseline_m = rng.random_range(0.011..0.49);
+            }
+        }
+        c.validate().expect("a valid calibration");
+        c
+    }
+
+    /// A raw frame of one of several kinds no sensor makes: uniform noise, noise with holes,
+    /// random rectangles, all holes, one value, alternating hole columns.
+    fn random_frame(rng: &mut impl Rng) -> Vec<u16> {
+        let mut raw = vec![0u16; PIXELS];
+        match rng.random_range(0..6) {
+            0 => raw.fill_with(|| rng.random_range(0..=2047)),
+            1 => raw.fill_with(|| {
+                if rng.random_bool(0.3) {
+                    NO_DEPTH
+                } else {
+                    rng.random_range(0..NO_DEPTH)
+                }
+            }),
+            2 => {
+                raw.fill(rng.random_range(0..NO_DEPTH));
+                for _ in 0..rng.random_range(1..60) {
+                    let (u0, v0) = (rng.random_range(0..WIDTH), rng.random_range(0..HEIGHT));
+                    let (w, h) = (rng.random_range(1..200), rng.random_range(1..200));
+                    let value = if rng.random_bool(0.4) {
+                        NO_DEPTH
+                    } else {
+                        rng.random_range(0..NO_DEPTH)
+                    };
+                    for v in v0..(v0 + h).min(HEIGHT) {
+                        raw[v * WIDTH + u0..v * WIDTH + (u0 + w).min(WIDTH)].fill(value);
+                    }
+                }
+            }
+            3 => raw.fill(NO_DEPTH),
+            4 => raw.fill(rng.random_range(0..NO_DEPTH)),
+            _ => {
+                for (i, r) in raw.iter_mut().enumerate() {
+                    *r = if i % 2 == 0 {
+                        NO_DEPTH
+                    } else {
+                        (i % 2047) as u16
+                    };
+                }
+            }
+        }
+        raw
+    }
+
+    /// Whatever valid calibration and whatever frame and colour image, with or without the
+    /// colour image, in every build: no panic, and the labels keep their contract. In the IR view
+    /// a pixel is VALID exactly when it has depth and never ALIGNMENT; in the RGB view a pixel is
+    /// VALID exactly when it has registered depth. (This found the warp's rounding of pixels a
+    /// hair outside the RGB image, above.)
+    #[test]
+    fn random_valid_calibrations_and_frames_keep_the_label_contract() {
+        use rand::SeedableRng;
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2026);
+        for case in 0..24 {
+            let calib = random_calibration(&mut rng);
+            let raw = random_frame(&mut rng);
+            let rgb: Vec<u8> = (0..3 * PIXELS).map(|_| rng.random()).collect();
+            for level in simd_levels() {
+                let c = &mut with_simd(&calib, level);
+                let mut out = Classified::default();
+                for colour in [Some(&rgb[..]), None] {
+                    c.classify_with_rgb(&raw, colour, &mut out);
+                    let what = format!("case {case}, {level:?}, colour {}", colour.is_some());
+                    for (&l, &r) in out.ir_labels.iter().zip(&raw) {
+                        assert!(l <= OTHER && l != ALIGNMENT, "{what}: IR label {l}");
+                        assert_eq!(l == VALID, r != NO_DEPTH, "{what}: IR label {l}, raw {r}");
+                    }
+                    for (&l, &mm) in out.rgb_labels.iter().zip(&out.registered_mm) {
+                        assert!(l <= OTHER, "{what}: RGB label {l}");
+                        assert_eq!(l == VALID, mm > 0, "{what}: RGB label {l}, {mm} mm");
+                    }
                 }
             }
         }
