@@ -713,9 +713,20 @@ impl ColourSplit {
         let bg_count = &mut prefix.bg_count[..];
         bg_count[0] = 0;
         let step = dimmed(COLOUR_STEP, bg_colour);
+        // Soft edges as in the split ([`soft_edge`]).
+        let dist = |k: usize| {
+            if k < n {
+                hue_dist(px(x0 + k as i64), bg_colour)
+            } else {
+                u32::MAX
+            }
+        };
+        let (mut d_prev, mut d) = (u32::MAX, dist(0));
         for k in 0..n {
-            let dx = hue_dist(px(x0 + k as i64), bg_colour);
-            bg_count[k + 1] = bg_count[k] + u32::from(dx < step);
+            let d_next = dist(k + 1);
+            let is_bg = d < step || soft_edge(d_prev, d, d_next, step);
+            bg_count[k + 1] = bg_count[k] + u32::from(is_bg);
+            (d_prev, d) = (d, d_next);
         }
         let (misses, t, o1) = self.fit_right_edge(&bg_count[..=n], x0, v, b, bg)?;
         let lo = o1.saturating_sub(OPEN_WINDOW);
@@ -886,8 +897,23 @@ impl ColourSplit {
         bg_count[0] = 0;
         let mut first = None;
         let colour = |k: usize| [3 * k, 3 * k + 1, 3 * k + 2].map(|i| i32::from(pixels[i]));
-        for k in 0..pixels.len() / 3 {
-            bg_count[k + 1] = bg_count[k] + u32::from(hue_dist(colour(k), bg) < step);
+        // A column counts as background within the step, or as the background's side of a soft
+        // edge ([`soft_edge`]): through a soft lens (the real frame's edges rise over two
+        // pixels) the blended column was the occluder's, 2 px of shadow lost.
+        let cols = pixels.len() / 3;
+        let dist = |k: usize| {
+            if k < cols {
+                hue_dist(colour(k), bg)
+            } else {
+                u32::MAX
+            }
+        };
+        let (mut d_prev, mut d) = (u32::MAX, dist(0));
+        for k in 0..cols {
+            let d_next = dist(k + 1);
+            let is_bg = d < step || soft_edge(d_prev, d, d_next, step);
+            bg_count[k + 1] = bg_count[k] + u32::from(is_bg);
+            (d_prev, d) = (d, d_next);
             if !c.closed && first.is_none() && k >= 2 && bg_count[k + 1] == bg_count[k - 2] {
                 first = Some(k - 2);
             }
@@ -1005,13 +1031,28 @@ impl ColourSplit {
             }
             acc.map(|a| a / n)
         };
+        // The shadow's column beside the occluder may be a soft edge's blend ([`soft_edge`]).
+        let shadow_read = if l.shadow_cols >= 3 {
+            l.shadow_cols - 1
+        } else {
+            l.shadow_cols
+        };
         let clear = l.shadow_cols >= 2
             && l.occluder_cols >= 2
-            && 2 * hue_dist(mean(0..l.shadow_cols), bg) <= dimmed(COLOUR_STEP, bg)
+            && 2 * hue_dist(mean(0..shadow_read), bg) <= dimmed(COLOUR_STEP, bg)
             && sum(occluder) >= dimmed(OCCLUDER_STEP, bg) * l.occluder_cols as u32;
         (clear && 10 * l.hits >= 9 * n && l.hits >= no_shadow + l.shadow_cols / 2)
             .then_some((s, shift.unwrap_or(s)))
     }
+}
+
+/// True when a column `d` from the background's colour is the background's side of a soft edge:
+/// beside a background column (`d_prev` or `d_next` within `step`) and less than half as far from
+/// the background as the column on its other side. A lens blends the column an edge falls in;
+/// the edge lies where the blend is half way.
+#[inline]
+fn soft_edge(d_prev: u32, d: u32, d_next: u32, step: u32) -> bool {
+    (d_prev < step && 2 * d < d_next) || (d_next < step && 2 * d < d_prev)
 }
 
 /// The RGB8 pixel nearest to (`x`, `y`), if inside the image.
