@@ -443,7 +443,7 @@ fn alignment_strip_starts_at_the_colour_edge_of_the_box_through_a_soft_lens() {
     // softness of a demosaiced Bayer camera: the box's last RGB pixel is a quarter wall colour,
     // the wall's first a quarter box colour. Each still sides with the colour it is nearer, so
     // the colour edge still places the strip better than depth alone.
-    let s = box_strip_starts(None, 80, soften);
+    let s = box_strip_starts(None, 80, umbra::synth::soften);
     assert!(s.rows > 300, "{} rows cross the box", s.rows);
     // Measured: 778 of 780 (depth alone: 746).
     assert!(
@@ -517,30 +517,6 @@ fn rgb_distance(rgb: &[u8], a: usize, b: usize) -> u32 {
         .zip(&rgb[3 * b..3 * b + 3])
         .map(|(&p, &q)| u32::from(p.abs_diff(q)))
         .sum()
-}
-
-/// An RGB8 image blurred by the kernel [1 2 1]/4 along rows and then columns (edges clamped).
-fn soften(rgb: &[u8]) -> Vec<u8> {
-    let at = |img: &[u16], x: usize, y: usize, c: usize| u32::from(img[3 * (y * WIDTH + x) + c]);
-    let pass = |img: &[u16], dx: usize, dy: usize| -> Vec<u16> {
-        let mut out = vec![0u16; img.len()];
-        for y in 0..HEIGHT {
-            for x in 0..WIDTH {
-                let (x0, y0) = (x.saturating_sub(dx), y.saturating_sub(dy));
-                let (x1, y1) = ((x + dx).min(WIDTH - 1), (y + dy).min(HEIGHT - 1));
-                for c in 0..3 {
-                    let sum = at(img, x0, y0, c) + 2 * at(img, x, y, c) + at(img, x1, y1, c);
-                    out[3 * (y * WIDTH + x) + c] = ((sum + 2) / 4) as u16;
-                }
-            }
-        }
-        out
-    };
-    let wide: Vec<u16> = rgb.iter().map(|&b| u16::from(b)).collect();
-    pass(&pass(&wide, 1, 0), 0, 1)
-        .iter()
-        .map(|&v| v as u8)
-        .collect()
 }
 
 /// The box before a wall, moved right in 17 steps of 0.1 mm (a sixth of an IR pixel at 1 m) so
@@ -1112,7 +1088,7 @@ fn narrow_shadow_of_a_black_rod_is_split_off_through_a_soft_lens() {
     let mut scene = Scene::rod_before_wall(0.0, 2.3, 0.05, 3.0);
     scene.objects[1].material = umbra::synth::Material::black();
     let mut frame = render_frame(&scene, &calib, &SensorModel::ideal(), 6);
-    frame.rgb = soften(&frame.rgb);
+    frame.rgb = umbra::synth::soften(&frame.rgb);
     let out = classify_rgb(&calib, &frame);
     let (rows, split) = attached_rows(&frame, &out.ir_labels, |v, n, truth| {
         assert!(
@@ -1136,7 +1112,7 @@ fn black_box_shadow_through_a_soft_lens_is_split_as_in_a_sharp_image() {
     let frame = render_frame(&black_box_before_wall(), &calib, &SensorModel::ideal(), 4);
     let sharp = classify_rgb(&calib, &frame);
     let soft_frame = SynthFrame {
-        rgb: soften(&frame.rgb),
+        rgb: umbra::synth::soften(&frame.rgb),
         ..frame.clone()
     };
     let soft = classify_rgb(&calib, &soft_frame);

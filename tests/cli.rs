@@ -299,7 +299,7 @@ fn bench_classify_times_each_frame_and_its_mirror_next_to_a_plain_copy() {
 }
 
 #[test]
-fn synth_takes_the_colour_cameras_noise_and_exposure() {
+fn synth_takes_the_colour_cameras_noise_exposure_and_softness() {
     let tmp = tempfile::tempdir().unwrap();
     let make = |name: &str, extra: &[&str]| {
         let (rec, gt) = (tmp.path().join(name), tmp.path().join(format!("{name}-gt")));
@@ -340,6 +340,22 @@ fn synth_takes_the_colour_cameras_noise_and_exposure() {
     let sigma = (residuals.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / n).sqrt();
     assert!(mean.abs() < 0.3, "mean residual {mean:.2}");
     assert!((sigma - 6.0).abs() < 0.3, "noise σ {sigma:.2}");
+
+    // A soft lens: the noise-free image through the [1 2 1]/4 kernel each way, the labels
+    // untouched.
+    let (soft, meta) = make("soft", &["--rgb-soft"]);
+    assert!(meta.contains("rgb_soft = true"), "{meta}");
+    assert!(
+        soft == umbra::synth::soften(&clean),
+        "the sharp image, softened"
+    );
+    assert!(soft != clean, "a box's edges do blur");
+    for view in ["depth", "rgb"] {
+        let gt = |name: &str| {
+            std::fs::read(tmp.path().join(format!("{name}-gt/000000.{view}.png"))).unwrap()
+        };
+        assert!(gt("soft") == gt("clean"), "{view} labels");
+    }
 
     // Out-of-range values are one-line errors naming the flag.
     for (flag, value) in [

@@ -25,7 +25,7 @@ pub use geometry::{Shape, V3};
 pub use random::{random_scene, Category};
 pub use render::{render_frame, SynthFrame};
 pub use scene::{Material, Object, Scene};
-pub use sensor::SensorModel;
+pub use sensor::{soften, SensorModel};
 pub use write::{job_frame, write_job, Job};
 
 /// The sensor model that goes with a scene category: complex scenes get more speckle.

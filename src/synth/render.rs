@@ -239,7 +239,14 @@ pub fn render_rgb(
                 &lamp,
                 m,
                 obj,
-                (sensor.rgb_gain, sensor.rgb_noise_sigma),
+                (
+                    sensor.rgb_gain,
+                    if sensor.rgb_soft {
+                        0.0
+                    } else {
+                        sensor.rgb_noise_sigma
+                    },
+                ),
                 rng,
             );
             if p.z <= 0.0 {
@@ -259,6 +266,16 @@ pub fn render_rgb(
             } else {
                 ir[iv as usize * WIDTH + iu as usize]
             };
+        }
+    }
+    if sensor.rgb_soft {
+        // The lens before the sensor's noise.
+        rgb = sensor::soften(&rgb);
+        if sensor.rgb_noise_sigma > 0.0 {
+            for b in &mut rgb {
+                let noisy = f64::from(*b) + sensor::gauss(rng) * sensor.rgb_noise_sigma;
+                *b = noisy.round().clamp(0.0, 255.0) as u8;
+            }
         }
     }
     (rgb, labels, fg)

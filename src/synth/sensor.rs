@@ -45,6 +45,10 @@ pub struct SensorModel {
     /// Exposure of the RGB camera: every 8-bit value is scaled by it before the noise (1: a
     /// pale wall near 200; the real NYU frame's median is about 0.4 of the simulator's).
     pub rgb_gain: f64,
+    /// A soft lens: the image is blurred by [`soften`] before the noise. The real NYU frame's
+    /// strong edges rise over two pixels (10 % to 90 %), as this makes them; off, the
+    /// simulator's rise within one.
+    pub rgb_soft: bool,
 }
 
 impl Default for SensorModel {
@@ -71,6 +75,7 @@ impl SensorModel {
             spurious_prob: 0.002,
             rgb_noise_sigma: 2.0,
             rgb_gain: 1.0,
+            rgb_soft: false,
         }
     }
 
@@ -130,6 +135,39 @@ fn widen_amount(max: u32, rng: &mut impl Rng) -> usize {
         x -= w;
     }
     max as usize
+}
+
+/// An RGB8 image (640·480) through a soft lens: blurred by the kernel [1 2 1]/4 along rows,
+/// then along columns, edges clamped, rounded to the nearest value.
+pub fn soften(rgb: &[u8]) -> Vec<u8> {
+    assert_eq!(
+        rgb.len(),
+        3 * WIDTH * HEIGHT,
+        "an RGB image has 640x480x3 bytes"
+    );
+    // One pass of the kernel along rows or along columns, on sums (no rounding between passes).
+    fn pass(img: &[u16], along_rows: bool) -> Vec<u16> {
+        let mut out = vec![0u16; img.len()];
+        for y in 0..HEIGHT {
+            for x in 0..WIDTH {
+                let (before, after) = if along_rows {
+                    ((y, x.saturating_sub(1)), (y, (x + 1).min(WIDTH - 1)))
+                } else {
+                    ((y.saturating_sub(1), x), ((y + 1).min(HEIGHT - 1), x))
+                };
+                for c in 0..3 {
+                    let at = |(yy, xx): (usize, usize)| u32::from(img[3 * (yy * WIDTH + xx) + c]);
+                    let sum = at(before) + 2 * at((y, x)) + at(after);
+                    // Four times the value on the first pass, sixteen on the second.
+                    out[3 * (y * WIDTH + x) + c] = sum as u16;
+                }
+            }
+        }
+        out
+    }
+    let wide: Vec<u16> = rgb.iter().map(|&b| u16::from(b)).collect();
+    let blurred = pass(&pass(&wide, true), false);
+    blurred.iter().map(|&s| ((s + 8) / 16) as u8).collect()
 }
 
 /// Widens every run of projector-shadow pixels in each row by a random 0–`widen_left_max` valid
@@ -280,6 +318,32 @@ mod tests {
     use super::*;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
+
+    #[test]
+    fn soften_blurs_a_step_over_two_pixels() {
+        // A vertical edge, 200 left of column 300 and 40 from it on: the kernel [1 2 1]/4 along
+        // the row gives 200·3/4 + 40/4 = 160 and 200/4 + 40·3/4 = 80 either side of it, and the
+        // pass along the columns changes nothing (every column is uniform).
+        let mut rgb = vec![200u8; 3 * WIDTH * HEIGHT];
+        for v in 0..HEIGHT {
+            rgb[3 * (v * WIDTH + 300)..3 * (v + 1) * WIDTH].fill(40);
+        }
+        let soft = soften(&rgb);
+        for v in [0, 240, HEIGHT - 1] {
+            let row = |u: usize| soft[3 * (v * WIDTH + u)];
+            assert_eq!(
+                [
+                    row(0),
+                    row(298),
+                    row(299),
+                    row(300),
+                    row(301),
+                    row(WIDTH - 1)
+                ],
+                [200, 200, 160, 80, 40, 40]
+            );
+        }
+    }
 
     #[test]
     fn widening_averages_about_two_px() {

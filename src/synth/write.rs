@@ -143,6 +143,7 @@ fn meta_toml(job: &Job) -> String {
     t.insert("noise_sigma_raw".into(), s.noise_sigma_raw.into());
     t.insert("rgb_noise_sigma".into(), s.rgb_noise_sigma.into());
     t.insert("rgb_gain".into(), s.rgb_gain.into());
+    t.insert("rgb_soft".into(), s.rgb_soft.into());
     t.insert("objects".into(), (job.scene.objects.len() as i64).into());
     toml::to_string(&t).expect("a flat table always serialises")
 }
