@@ -522,18 +522,24 @@ impl Warp {
                         || key_depth(k) == key_depth(near)
                         || key_depth(k) == key_depth(far)
                 };
-                let (from, to) = (c0.min(e0), c1.max(e1));
-                if (from..to).all(|x| ours(self.zbuf[base + x])) {
-                    for x in from..to {
-                        self.zbuf[base + x] = if x < e0 {
-                            near
-                        } else if x >= e1 {
-                            far
-                        } else {
-                            EMPTY
-                        };
+                // Each end moves to where the colour puts it if the pixels it passes show
+                // either side of this edge or nothing yet: a second source row that lands on
+                // this target row (one in nine does) finds the first one's far surface a few
+                // millimetres off its own, which once kept the near end where depth put it too.
+                let (s0, s1) = (c0.min(e0), c0.max(e0));
+                if (s0..s1).all(|x| ours(self.zbuf[base + x])) {
+                    for x in s0..s1 {
+                        self.zbuf[base + x] = if x < e0 { near } else { EMPTY };
                     }
-                    (c0, c1) = (e0, e1);
+                    c0 = e0;
+                }
+                // (Left of the gap's start, whichever it is, the near surface stays.)
+                let (t0, t1) = (c1.min(e1).max(c0), c1.max(e1));
+                if (t0..t1).all(|x| ours(self.zbuf[base + x])) {
+                    for x in t0..t1 {
+                        self.zbuf[base + x] = if x >= e1 { far } else { EMPTY };
+                    }
+                    c1 = e1;
                 }
             }
         }
@@ -1031,6 +1037,34 @@ mod tests {
     use super::*;
     use crate::classify::{Classified, Classifier};
     use crate::labels::{histogram, ATTACHED};
+
+    #[test]
+    fn rgb_rows_two_ir_rows_land_on_start_their_strip_at_the_colour_edge_too() {
+        // A wall at 1 m left of IR column 300 and one at 3 m from it on, whose raw value moves by
+        // a unit from row to row (as noise does). The near wall's edge, IR column 299.5, lands at
+        // RGB column 518.86·((299.5 − 313.04)/582.62 − 0.025) + 325.58 = 300.55, so depth alone
+        // starts the alignment strip at RGB column 301; the colour image's edge at column 300
+        // (dark before it, pale from it) moves it to 300. The RGB camera's rows are a little
+        // taller than the IR camera's, so one RGB row in nine gets two IR rows, whose far walls
+        // differ by that unit: the second once found the first one's far wall not its own and
+        // left the start where depth put it (44 of 360 rows).
+        let c = Calibration::nyu_default();
+        let (near, far) = (raw_at(&c, 1.0), raw_at(&c, 3.0));
+        let mut raw = vec![near; PIXELS];
+        for v in 0..HEIGHT {
+            raw[v * WIDTH + 300..(v + 1) * WIDTH].fill(far + (v % 2) as u16);
+        }
+        let mut rgb = vec![200u8; 3 * PIXELS];
+        for v in 0..HEIGHT {
+            rgb[3 * v * WIDTH..3 * (v * WIDTH + 300)].fill(40);
+        }
+        let mut out = Classified::default();
+        Classifier::new(&c).classify_with_rgb(&raw, Some(&rgb), &mut out);
+        for v in 60..420 {
+            let start = (0..WIDTH).find(|&x| out.rgb_labels[v * WIDTH + x] == ALIGNMENT);
+            assert_eq!(start, Some(300), "RGB row {v}");
+        }
+    }
 
     #[test]
     fn a_single_far_pixel_in_a_surface_opens_no_gap_but_a_slit_does() {
