@@ -245,9 +245,9 @@ pub struct FrameFacts {
     pub range: Range,
     /// How many pixels the sensor's widening adds to a shadow's left end: half the median by
     /// which the frame's attached holes (bounded by their background on the left and their
-    /// occluder on the right) are wider than eq. (3) says. About 2 px on a real Kinect
-    /// (SPEC §1: 1.125 px from the real NYU frame), 0 on noise-free geometry, and 0 in a frame
-    /// with fewer than 16 such holes. The colour split measures a shadow from the hole's first
+    /// occluder on the right) are wider than eq. (3) says. About 1 px on a real Kinect (half of
+    /// SPEC §1's 2 px; 1.125 px from the real NYU frame), 0 on noise-free geometry, and 0 in a
+    /// frame with fewer than 16 such holes. The colour split measures a shadow from the hole's first
     /// pixel, so the occluder's shift is the width less this.
     pub left_widening: f64,
 }
