@@ -713,20 +713,9 @@ impl ColourSplit {
         let bg_count = &mut prefix.bg_count[..];
         bg_count[0] = 0;
         let step = dimmed(COLOUR_STEP, bg_colour);
-        // Soft edges as in the split ([`soft_edge`]).
-        let dist = |k: usize| {
-            if k < n {
-                hue_dist(px(x0 + k as i64), bg_colour)
-            } else {
-                u32::MAX
-            }
-        };
-        let (mut d_prev, mut d) = (u32::MAX, dist(0));
-        for k in 0..n {
-            let d_next = dist(k + 1);
-            let is_bg = d < step || soft_edge(d_prev, d, d_next, step);
+        let columns = background_columns(n, step, |k| hue_dist(px(x0 + k as i64), bg_colour));
+        for (k, is_bg) in columns.enumerate() {
             bg_count[k + 1] = bg_count[k] + u32::from(is_bg);
-            (d_prev, d) = (d, d_next);
         }
         let (misses, t, o1) = self.fit_right_edge(&bg_count[..=n], x0, v, b, bg)?;
         let lo = o1.saturating_sub(OPEN_WINDOW);
@@ -897,23 +886,9 @@ impl ColourSplit {
         bg_count[0] = 0;
         let mut first = None;
         let colour = |k: usize| [3 * k, 3 * k + 1, 3 * k + 2].map(|i| i32::from(pixels[i]));
-        // A column counts as background within the step, or as the background's side of a soft
-        // edge ([`soft_edge`]): through a soft lens (the real frame's edges rise over two
-        // pixels) the blended column was the occluder's, 2 px of shadow lost.
-        let cols = pixels.len() / 3;
-        let dist = |k: usize| {
-            if k < cols {
-                hue_dist(colour(k), bg)
-            } else {
-                u32::MAX
-            }
-        };
-        let (mut d_prev, mut d) = (u32::MAX, dist(0));
-        for k in 0..cols {
-            let d_next = dist(k + 1);
-            let is_bg = d < step || soft_edge(d_prev, d, d_next, step);
+        let columns = background_columns(pixels.len() / 3, step, |k| hue_dist(colour(k), bg));
+        for (k, is_bg) in columns.enumerate() {
             bg_count[k + 1] = bg_count[k] + u32::from(is_bg);
-            (d_prev, d) = (d, d_next);
             if !c.closed && first.is_none() && k >= 2 && bg_count[k + 1] == bg_count[k - 2] {
                 first = Some(k - 2);
             }
@@ -1044,6 +1019,26 @@ impl ColourSplit {
         (clear && 10 * l.hits >= 9 * n && l.hits >= no_shadow + l.shadow_cols / 2)
             .then_some((s, shift.unwrap_or(s)))
     }
+}
+
+/// Whether each of `n` RGB columns shows the background, column `k` being `dist(k)` from its
+/// colour: within `step`, or the background's side of a soft edge ([`soft_edge`]). Through a soft
+/// lens (the real frame's edges rise over two pixels) the blended column once counted as the
+/// occluder, and 2 px of shadow were lost.
+#[inline]
+fn background_columns(
+    n: usize,
+    step: u32,
+    dist: impl Fn(usize) -> u32,
+) -> impl Iterator<Item = bool> {
+    let at = move |k: usize| if k < n { dist(k) } else { u32::MAX };
+    let (mut d_prev, mut d) = (u32::MAX, at(0));
+    (0..n).map(move |k| {
+        let d_next = at(k + 1);
+        let is_bg = d < step || soft_edge(d_prev, d, d_next, step);
+        (d_prev, d) = (d, d_next);
+        is_bg
+    })
 }
 
 /// True when a column `d` from the background's colour is the background's side of a soft edge:
