@@ -1272,22 +1272,12 @@ fn black_box_split_survives_the_sensors_ragged_shadow_edge() {
     let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 11);
     let out = classify_rgb(&calib, &frame);
     let w = calib.fb() * (1.0 - 1.0 / 3.0);
-    let (mut rows, mut split) = (0, 0);
-    for v in 0..HEIGHT {
-        let truth = count_in_row(&frame.ir_labels, v, ATTACHED);
-        if truth == 0 {
-            continue;
-        }
-        rows += 1;
-        let n = count_in_row(&out.ir_labels, v, ATTACHED);
-        if n > 0 {
-            split += 1;
-            assert!(
-                n as f64 >= w - 2.5 && n as f64 <= w + 5.5,
-                "row {v}: {n} attached px, hand-computed {w:.2} plus 0–3 px of widening"
-            );
-        }
-    }
+    let (rows, split) = attached_rows(&frame, &out.ir_labels, |v, n, _| {
+        assert!(
+            n == 0 || (n as f64 >= w - 2.5 && n as f64 <= w + 5.5),
+            "row {v}: {n} attached px, hand-computed {w:.2} plus 0–3 px of widening"
+        );
+    });
     assert!(rows > 100, "the box spans {rows} rows");
     assert!(10 * split >= 9 * rows, "{split} of {rows} rows split");
 }
