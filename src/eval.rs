@@ -185,8 +185,12 @@ impl Category {
 /// Both views' confusion matrices over some set of frames.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Tally {
-    /// Frames counted.
+    /// Frames counted (in either view).
     pub frames: u64,
+    /// Frames counted in the IR view (ground truth may cover one view only).
+    pub ir_frames: u64,
+    /// Frames counted in the RGB view.
+    pub rgb_frames: u64,
     /// IR-view matrix.
     pub ir: Confusion,
     /// RGB-view matrix.
@@ -196,16 +200,41 @@ pub struct Tally {
 impl Tally {
     /// Counts one frame: ground truth and prediction in both views.
     pub fn add_frame(&mut self, gt_ir: &[u8], pred_ir: &[u8], gt_rgb: &[u8], pred_rgb: &[u8]) {
+        self.add_views(Some((gt_ir, pred_ir)), Some((gt_rgb, pred_rgb)));
+    }
+
+    /// Counts one frame in the views that have ground truth, as `(ground truth, prediction)`
+    /// (hand-labelled real frames often have it for one view only).
+    pub fn add_views(&mut self, ir: Option<(&[u8], &[u8])>, rgb: Option<(&[u8], &[u8])>) {
+        if ir.is_none() && rgb.is_none() {
+            return;
+        }
         self.frames += 1;
-        self.ir.add(gt_ir, pred_ir);
-        self.rgb.add(gt_rgb, pred_rgb);
+        if let Some((gt, pred)) = ir {
+            self.ir_frames += 1;
+            self.ir.add(gt, pred);
+        }
+        if let Some((gt, pred)) = rgb {
+            self.rgb_frames += 1;
+            self.rgb.add(gt, pred);
+        }
     }
 
     /// Adds another tally.
     pub fn merge(&mut self, other: &Tally) {
         self.frames += other.frames;
+        self.ir_frames += other.ir_frames;
+        self.rgb_frames += other.rgb_frames;
         self.ir.merge(&other.ir);
         self.rgb.merge(&other.rgb);
+    }
+
+    /// Frames counted in view `v`.
+    pub fn view_frames(&self, v: View) -> u64 {
+        match v {
+            View::Ir => self.ir_frames,
+            View::Rgb => self.rgb_frames,
+        }
     }
 
     /// The matrix of one view.
@@ -267,9 +296,17 @@ impl Report {
                 .iter()
                 .filter(|r| name == "all" || r.1.map(Category::name) == Some(name))
                 .count();
+            let views = if tally.ir_frames == tally.frames && tally.rgb_frames == tally.frames {
+                String::new()
+            } else {
+                format!(
+                    " (scored in the IR view {}, in the RGB view {})",
+                    tally.ir_frames, tally.rgb_frames
+                )
+            };
             let _ = writeln!(
                 s,
-                "\n{name}: {recs} recording{}, {} frame{}",
+                "\n{name}: {recs} recording{}, {} frame{}{views}",
                 plural(recs as u64),
                 tally.frames,
                 plural(tally.frames)
@@ -308,6 +345,7 @@ impl Report {
     pub fn to_json(&self) -> serde_json::Value {
         #[derive(Serialize)]
         struct ViewJson {
+            frames: u64,
             pixels: u64,
             classes: BTreeMap<&'static str, Score>,
             any_shadow: Score,
@@ -325,15 +363,16 @@ impl Report {
             category: Option<Category>,
             frames: u64,
         }
-        let view = |m: &Confusion, v: View| ViewJson {
-            pixels: m.total(),
+        let view = |t: &Tally, v: View| ViewJson {
+            frames: t.view_frames(v),
+            pixels: t.view(v).total(),
             classes: v
                 .classes()
                 .iter()
-                .map(|&c| (labels::NAMES[c as usize], m.class(c)))
+                .map(|&c| (labels::NAMES[c as usize], t.view(v).class(c)))
                 .collect(),
-            any_shadow: m.any_shadow(),
-            confusion: *m.counts(),
+            any_shadow: t.view(v).any_shadow(),
+            confusion: *t.view(v).counts(),
         };
         let groups: BTreeMap<&str, GroupJson> = self
             .groups()
@@ -343,8 +382,8 @@ impl Report {
                     name,
                     GroupJson {
                         frames: t.frames,
-                        ir: view(&t.ir, View::Ir),
-                        rgb: view(&t.rgb, View::Rgb),
+                        ir: view(&t, View::Ir),
+                        rgb: view(&t, View::Rgb),
                     },
                 )
             })

@@ -570,6 +570,23 @@ fn eval_ground_truth_value_not_a_label() {
     );
 }
 
+#[test]
+fn eval_ground_truth_for_no_frame_of_the_recording() {
+    let c = Case::new();
+    // Label files there are, but numbered past the recording's frames: another recording's.
+    for view in ["depth", "rgb"] {
+        for i in 0..2 {
+            let from = c.gt().join(format!("{i:06}.{view}.png"));
+            std::fs::rename(&from, c.gt().join(format!("{:06}.{view}.png", i + 40))).unwrap();
+        }
+    }
+    let first = c.gt().join("000000.depth.png");
+    one_line_error(
+        umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]),
+        &[&s(&first), "no ground truth for any", "up to frame 41"],
+    );
+}
+
 // ---------------------------------------------------------------- 7. nothing already written is lost
 
 #[test]

@@ -110,6 +110,67 @@ fn eval_scores_the_box_scene_against_ground_truth() {
     assert!(g.contains(&ATTACHED));
 }
 
+/// `[gt][pred]` counts of one label PNG pair, read here rather than by `umbra eval`.
+fn confusion(gt: &Path, pred: &Path) -> [[u64; 5]; 5] {
+    let (mut g, mut p) = (vec![0u8; PIXELS], vec![0u8; PIXELS]);
+    read_label_png(gt, &mut g).unwrap();
+    read_label_png(pred, &mut p).unwrap();
+    let mut m = [[0u64; 5]; 5];
+    for (&a, &b) in g.iter().zip(&p) {
+        m[a as usize][b as usize] += 1;
+    }
+    m
+}
+
+fn add(a: [[u64; 5]; 5], b: [[u64; 5]; 5]) -> [[u64; 5]; 5] {
+    std::array::from_fn(|i| std::array::from_fn(|j| a[i][j] + b[i][j]))
+}
+
+#[test]
+fn eval_scores_the_frames_and_views_that_have_ground_truth() {
+    // Hand-labelled real frames cover some frames of a recording, often one view only.
+    let tmp = tempfile::tempdir().unwrap();
+    let (rec, gt) = synth(tmp.path(), "complex", "3");
+    let gt = Path::new(&gt);
+    let labels = tmp.path().join("labels");
+    umbra(&[
+        "replay",
+        &rec,
+        "--export-labels",
+        &labels.display().to_string(),
+    ]);
+    std::fs::remove_file(label_path(gt, 1, "rgb")).unwrap();
+    std::fs::remove_file(label_path(gt, 2, "depth")).unwrap();
+    std::fs::remove_file(label_path(gt, 2, "rgb")).unwrap();
+
+    let out = umbra(&["eval", &rec, "--gt", &gt.display().to_string(), "--json"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("covers 2 of 3 depth frames in the IR view and 1 in the RGB view"),
+        "{stderr}"
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let all = &v["groups"]["all"];
+    assert_eq!(all["frames"], 2, "{all}");
+    assert_eq!(all["ir"]["frames"], 2);
+    assert_eq!(all["rgb"]["frames"], 1);
+    let matrix = |view: &str| -> [[u64; 5]; 5] {
+        serde_json::from_value(all[view]["confusion"].clone()).unwrap()
+    };
+    let pair =
+        |i: usize, view: &str| confusion(&label_path(gt, i, view), &label_path(&labels, i, view));
+    assert_eq!(matrix("ir"), add(pair(0, "depth"), pair(1, "depth")));
+    assert_eq!(matrix("rgb"), pair(0, "rgb"));
+
+    // The table says the views differ.
+    let out = umbra(&["eval", &rec, "--gt", &gt.display().to_string()]);
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        table.contains("2 frames (scored in the IR view 2, in the RGB view 1)"),
+        "{table}"
+    );
+}
+
 /// Another Kinect's calibration (ROS openni defaults: other focal lengths, centres, raw model).
 const OTHER_KINECT: &str = "\
 [depth]

@@ -21,7 +21,8 @@ pub struct Args {
     /// A recording folder (with INDEX.txt), or a folder whose subfolders are recordings.
     pub recording: PathBuf,
     /// Ground truth: <i:06>.depth.png and <i:06>.rgb.png per depth frame, optional meta.toml;
-    /// for a folder of recordings, one subfolder per recording with the same name.
+    /// for a folder of recordings, one subfolder per recording with the same name. Frames or
+    /// views without their file are left out of the scores (with a warning).
     #[arg(long, value_name = "DIR")]
     pub gt: PathBuf,
     /// Print one JSON object instead of the table.
@@ -286,11 +287,21 @@ fn score(
     let mut tally = Tally::default();
     let mut shadow = SegTally::default();
     let mut threshold = vec![SegTally::default(); seg.as_ref().map_or(0, |w| w.pairs.len())];
-    for i in 0..job.rec.len() {
-        // Read ground truth first: a missing file fails before any work on the frame.
-        read_label_png(&gt_path(&job.gt, i, "depth"), &mut gt_ir)?;
-        read_label_png(&gt_path(&job.gt, i, "rgb"), &mut gt_rgb)?;
-        if let Some(w) = seg.as_deref_mut() {
+    let covered = coverage(job)?;
+    for (i, &(has_ir, has_rgb_gt)) in covered.iter().enumerate() {
+        if !has_ir && !has_rgb_gt && job.export.is_none() {
+            bar.inc(1);
+            continue;
+        }
+        // Read ground truth first: a bad file fails before any work on the frame.
+        if has_ir {
+            read_label_png(&gt_path(&job.gt, i, "depth"), &mut gt_ir)?;
+        }
+        if has_rgb_gt {
+            read_label_png(&gt_path(&job.gt, i, "rgb"), &mut gt_rgb)?;
+        }
+        let scored = has_ir || has_rgb_gt;
+        if let (Some(w), true) = (seg.as_deref_mut(), scored) {
             read_mask_png(&mask_path(&job.gt, i), &mut w.gt)?;
         }
         // One read serves the classifier's colour split and the segmenter.
@@ -305,8 +316,11 @@ fn score(
         }
         job.rec.read_depth(i, &mut raw)?;
         classifier.classify_with_rgb(&raw, has_rgb.then_some(&colour[..]), &mut out);
-        tally.add_frame(&gt_ir, &out.ir_labels, &gt_rgb, &out.rgb_labels);
-        if let Some(w) = seg.as_deref_mut() {
+        tally.add_views(
+            has_ir.then_some((&gt_ir[..], &out.ir_labels[..])),
+            has_rgb_gt.then_some((&gt_rgb[..], &out.rgb_labels[..])),
+        );
+        if let (Some(w), true) = (seg.as_deref_mut(), scored) {
             w.frame(&job.name, i, &colour, &out, &mut shadow, &mut threshold);
         }
         if let Some(dir) = &job.export {
@@ -316,6 +330,67 @@ fn score(
         bar.inc(1);
     }
     Ok((tally, seg.map(|_| (shadow, threshold))))
+}
+
+/// Which views of each depth frame of `job` have ground truth, `(IR, RGB)`. Hand-labelled real
+/// frames often cover a few frames of a recording, or one view: those are scored and the rest
+/// named in a warning. No ground truth at all is an error (most likely the wrong folder), and so
+/// is none for the frames there are (label files only past the recording's end).
+fn coverage(job: &Job) -> Result<Vec<(bool, bool)>> {
+    let n = job.rec.len();
+    let covered: Vec<(bool, bool)> = (0..n)
+        .map(|i| {
+            (
+                gt_path(&job.gt, i, "depth").is_file(),
+                gt_path(&job.gt, i, "rgb").is_file(),
+            )
+        })
+        .collect();
+    let ir = covered.iter().filter(|c| c.0).count();
+    let rgb = covered.iter().filter(|c| c.1).count();
+    let beyond = last_labelled_frame(&job.gt).filter(|&i| i >= n);
+    if ir == 0 && rgb == 0 {
+        let found = beyond.map_or(String::new(), |i| {
+            format!(" (it has labels up to frame {i}: is it this recording's?)")
+        });
+        return Err(Error::input(
+            gt_path(&job.gt, 0, "depth"),
+            "",
+            format!(
+                "missing: no ground truth for any of the recording's {n} depth frames{found}; expected <frame:06>.depth.png and/or <frame:06>.rgb.png per frame (SPEC §4)"
+            ),
+        ));
+    }
+    if ir < n || rgb < n {
+        tracing::warn!(
+            "{}: ground truth covers {ir} of {n} depth frames in the IR view and {rgb} in the RGB view; only those are scored",
+            job.name
+        );
+    }
+    if let Some(i) = beyond {
+        tracing::warn!(
+            "{}: {} has labels up to frame {i} but the recording has {n} depth frames; are the two paired?",
+            job.name,
+            job.gt.display()
+        );
+    }
+    Ok(covered)
+}
+
+/// The highest frame number among `<i:06>.depth.png` / `<i:06>.rgb.png` files in `dir`, if any.
+fn last_labelled_frame(dir: &Path) -> Option<usize> {
+    std::fs::read_dir(dir)
+        .ok()?
+        .filter_map(|e| {
+            let name = e.ok()?.file_name().into_string().ok()?;
+            let stem = name
+                .strip_suffix(".depth.png")
+                .or_else(|| name.strip_suffix(".rgb.png"))?;
+            (stem.len() == 6)
+                .then(|| stem.parse::<usize>().ok())
+                .flatten()
+        })
+        .max()
 }
 
 /// `<dir>/<i:06>.<view>.png`, the SPEC §4 name.
