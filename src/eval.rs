@@ -340,8 +340,59 @@ impl Report {
         s
     }
 
+    /// One line per recording, to find the scenes that pull a group's scores down: frames, the
+    /// F1 of each shadow class and the "any shadow" precision and recall, per view.
+    pub fn per_recording_table(&self) -> String {
+        let mut s = String::new();
+        let width = self
+            .recordings
+            .iter()
+            .map(|r| r.0.chars().count())
+            .max()
+            .unwrap_or(0)
+            .max("recording".len());
+        let _ = writeln!(
+            s,
+            "{:<width$} {:<8} {:>6}  {:>7} {:>6} {:>6} {:>6}  {:>7} {:>6} {:>6} {:>6} {:>6}",
+            "recording",
+            "category",
+            "frames",
+            "IR att",
+            "det",
+            "any P",
+            "any R",
+            "RGB att",
+            "det",
+            "ali",
+            "any P",
+            "any R"
+        );
+        let f1 = |m: &Confusion, c: u8| fmt_ratio(m.class(c).f1);
+        for (name, cat, t) in &self.recordings {
+            let (ir, rgb) = (&t.ir, &t.rgb);
+            let _ = writeln!(
+                s,
+                "{:<width$} {:<8} {:>6}  {:>7} {:>6} {:>6} {:>6}  {:>7} {:>6} {:>6} {:>6} {:>6}",
+                name,
+                cat.map_or("-", Category::name),
+                t.frames,
+                f1(ir, labels::ATTACHED),
+                f1(ir, labels::DETACHED),
+                fmt_ratio(ir.any_shadow().precision),
+                fmt_ratio(ir.any_shadow().recall),
+                f1(rgb, labels::ATTACHED),
+                f1(rgb, labels::DETACHED),
+                f1(rgb, labels::ALIGNMENT),
+                fmt_ratio(rgb.any_shadow().precision),
+                fmt_ratio(rgb.any_shadow().recall),
+            );
+        }
+        s
+    }
+
     /// The same numbers as [`Report::to_table`] as one JSON value, plus each view's confusion
-    /// matrix (`[gt][pred]`, codes 0–4) and each recording's name, category and frame count.
+    /// matrix (`[gt][pred]`, codes 0–4), and per recording its name, category, frame count and
+    /// the same scores of its own.
     pub fn to_json(&self) -> serde_json::Value {
         #[derive(Serialize)]
         struct ViewJson {
@@ -362,6 +413,8 @@ impl Report {
             name: &'a str,
             category: Option<Category>,
             frames: u64,
+            ir: ViewJson,
+            rgb: ViewJson,
         }
         let view = |t: &Tally, v: View| ViewJson {
             frames: t.view_frames(v),
@@ -395,6 +448,8 @@ impl Report {
                 name: n,
                 category: *c,
                 frames: t.frames,
+                ir: view(t, View::Ir),
+                rgb: view(t, View::Rgb),
             })
             .collect();
         serde_json::json!({ "recordings": recs, "groups": groups })

@@ -161,13 +161,32 @@ fn eval_scores_the_frames_and_views_that_have_ground_truth() {
         |i: usize, view: &str| confusion(&label_path(gt, i, view), &label_path(&labels, i, view));
     assert_eq!(matrix("ir"), add(pair(0, "depth"), pair(1, "depth")));
     assert_eq!(matrix("rgb"), pair(0, "rgb"));
+    // Per recording too (here the only one).
+    let one = &v["recordings"][0];
+    assert_eq!(one["ir"]["confusion"], all["ir"]["confusion"], "{one}");
+    assert_eq!(one["rgb"]["frames"], 1);
 
-    // The table says the views differ.
-    let out = umbra(&["eval", &rec, "--gt", &gt.display().to_string()]);
+    // The table says the views differ, and --per-recording adds the recording's line.
+    let out = umbra(&[
+        "eval",
+        &rec,
+        "--gt",
+        &gt.display().to_string(),
+        "--per-recording",
+    ]);
     let table = String::from_utf8_lossy(&out.stdout);
     assert!(
         table.contains("2 frames (scored in the IR view 2, in the RGB view 1)"),
         "{table}"
+    );
+    let line = table.lines().find(|l| l.starts_with("rec ")).expect(&table);
+    let any_p = format!(
+        "{:.3}",
+        all["ir"]["any_shadow"]["precision"].as_f64().unwrap()
+    );
+    assert!(
+        line.contains(&any_p),
+        "{line} lacks IR any-shadow precision {any_p}"
     );
 }
 

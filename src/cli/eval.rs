@@ -25,9 +25,13 @@ pub struct Args {
     /// views without their file are left out of the scores (with a warning).
     #[arg(long, value_name = "DIR")]
     pub gt: PathBuf,
-    /// Print one JSON object instead of the table.
+    /// Print one JSON object instead of the table (per-recording scores included).
     #[arg(long)]
     pub json: bool,
+    /// Also print one line of scores per recording (F1 per shadow class, any-shadow precision
+    /// and recall, both views), to find the scenes that pull the totals down.
+    #[arg(long)]
+    pub per_recording: bool,
     /// Also write the predicted labels as SPEC §4 PNGs here (one subfolder per recording when
     /// RECORDING is a folder of recordings).
     #[arg(long, value_name = "DIR")]
@@ -189,6 +193,9 @@ pub fn run(a: Args) -> Result<()> {
         println!("{v}");
     } else {
         print!("{}", report.to_table());
+        if a.per_recording {
+            print!("\n{}", report.per_recording_table());
+        }
         if let Some(r) = &seg_report {
             print!("{}", r.to_table());
         }
