@@ -1810,16 +1810,18 @@ fn a_noisier_colour_camera_costs_little_attached_f1() {
     // The colour split reads the RGB image: with noise of σ = 5 per channel (the simulator's
     // default is 2, the real frame's 1.3 to 4.8) its tests once left many rows unsplit, and
     // complex attached F1 fell by 0.065 on 20 scenes. Measured on these 8 scenes: 0.930 at σ = 2,
-    // 0.931 at σ = 5 (0.917 before).
+    // 0.931 at σ = 5 (0.917 before). At σ = 8 fixed colour steps let noise pass for edges
+    // (0.907); with steps that follow the noise each frame shows, 0.934 at σ = 5 and 0.933 at
+    // σ = 8.
     let f1 = |c: &Confusion| c.class(ATTACHED).f1.unwrap_or(0.0);
-    let (clean, noisy) = (
-        f1(&complex_ir_with_rgb_noise(8, 2.0)),
-        f1(&complex_ir_with_rgb_noise(8, 5.0)),
-    );
-    assert!(
-        noisy >= clean - 0.005,
-        "attached F1 {noisy:.3} at σ = 5, {clean:.3} at σ = 2"
-    );
+    let clean = f1(&complex_ir_with_rgb_noise(8, 2.0));
+    for sigma in [5.0, 8.0] {
+        let noisy = f1(&complex_ir_with_rgb_noise(8, sigma));
+        assert!(
+            noisy >= clean - 0.01,
+            "attached F1 {noisy:.3} at σ = {sigma}, {clean:.3} at σ = 2"
+        );
+    }
 }
 
 /// A black rod of radius `r` at 1.5 m before a wall at 3 m, through the Kinect sensor model

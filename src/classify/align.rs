@@ -78,6 +78,9 @@ pub struct Warp {
     edge_flags: Vec<u8>,
     /// The current source row's depth edges, from [`Warp::find_edges`] (capacity reserved once).
     edge_list: Vec<(usize, bool)>,
+    /// The colour steps' factor for the frame's camera noise, in 64ths
+    /// ([`step_scale`](super::noise::step_scale)).
+    noise_scale: u32,
 }
 
 /// The target pixel's centre lies left of the source pixel's footprint (it was rounded down).
@@ -123,7 +126,20 @@ impl Warp {
             edge_flags: vec![0; WIDTH],
             edge_list: Vec::with_capacity(WIDTH),
             parity: (0..WIDTH).map(|u| ((u & 1) as u32) << LABEL_BITS).collect(),
+            noise_scale: 64,
         }
+    }
+
+    /// Scales the colour tests' steps for the camera noise of the frames to come, in 64ths of
+    /// them ([`step_scale`](super::noise::step_scale)); 64 until set.
+    pub fn set_noise_scale(&mut self, scale: u32) {
+        self.noise_scale = scale;
+    }
+
+    /// `step` for a far surface of colour `bg` ([`dimmed`]) and the frame's camera noise.
+    #[inline]
+    fn dimmed(&self, step: u32, bg: [i32; 3]) -> u32 {
+        dimmed(step, bg) * self.noise_scale / 64
     }
 
     /// Runs the given build of the hot loops (tests compare the builds).
@@ -583,7 +599,7 @@ impl Warp {
         };
         let px = |x: usize| colour_at(colour, base + x);
         let (cf, cn) = (px(x - 2), px(inside));
-        if hue_dist(cn, cf) < dimmed(EDGE_CONTRAST, cf) {
+        if hue_dist(cn, cf) < self.dimmed(EDGE_CONTRAST, cf) {
             return;
         }
         let clearly_far = |x: usize| {
@@ -650,12 +666,12 @@ impl Warp {
             let t = self.target[u - 4];
             t != OUTSIDE
                 && t as usize / WIDTH == line
-                && hue_dist(px(t as usize % WIDTH), cn) < dimmed(SURFACE_AGREE, cf)
+                && hue_dist(px(t as usize % WIDTH), cn) < self.dimmed(SURFACE_AGREE, cf)
         };
         let contrast = if wide {
-            dimmed(WIDE_EDGE_CONTRAST, cf)
+            self.dimmed(WIDE_EDGE_CONTRAST, cf)
         } else {
-            dimmed(EDGE_CONTRAST, cf)
+            self.dimmed(EDGE_CONTRAST, cf)
         };
         if hue_dist(cn, cf) < contrast {
             // A rod is darkest at its silhouette, where its surface turns away from the light:
@@ -667,7 +683,7 @@ impl Warp {
                 || t as usize / WIDTH != line
                 || last <= inside
                 || last >= c0
-                || hue_dist(px(last), cf) < dimmed(EDGE_CONTRAST, cf)
+                || hue_dist(px(last), cf) < self.dimmed(EDGE_CONTRAST, cf)
             {
                 return None;
             }

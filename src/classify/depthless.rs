@@ -117,6 +117,9 @@ pub struct ColourSplit {
     /// How many pixels the sensor's widening adds to a shadow's left end in the current frame
     /// ([`FrameFacts::left_widening`]).
     widen: f64,
+    /// The colour steps' factor for the current frame's camera noise, in 64ths
+    /// ([`step_scale`](super::noise::step_scale)).
+    noise_scale: u32,
 }
 
 /// Prefix counts over the RGB columns under a hole of those that look like background, and the
@@ -201,6 +204,7 @@ impl ColourSplit {
                 ..Prefix::default()
             },
             widen: 0.0,
+            noise_scale: 64,
         }
     }
 
@@ -227,6 +231,12 @@ impl ColourSplit {
             Simd::Baseline => {}
         }
         self.apply_body(raw, rgb, facts, labels, filled);
+    }
+
+    /// The colour steps' factor the last frame's camera noise gave, in 64ths
+    /// ([`step_scale`](super::noise::step_scale)); the warp's colour tests use it too.
+    pub fn noise_scale(&self) -> u32 {
+        self.noise_scale
     }
 
     /// Runs the given build of the row loop (tests compare the builds).
@@ -285,6 +295,7 @@ impl ColourSplit {
             *mask = HoleMask::of(row);
         }
         self.widen = facts.left_widening;
+        self.noise_scale = super::noise::step_scale(super::noise::rgb_noise(rgb));
         for v in 1..HEIGHT - 1 {
             let row = &raw[v * WIDTH..(v + 1) * WIDTH];
             let mask = &self.masks[v];
@@ -430,6 +441,12 @@ impl ColourSplit {
     /// nearest measurable depth.
     fn widest(&self, raw: u16) -> usize {
         (self.max_disp - self.disp(raw)).max(0.0) as usize
+    }
+
+    /// `step` for a background of colour `bg` ([`dimmed`]) and the current frame's noise.
+    #[inline]
+    fn dimmed(&self, step: u32, bg: [i32; 3]) -> u32 {
+        dimmed(step, bg) * self.noise_scale / 64
     }
 
     fn disp(&self, raw: u16) -> f64 {
@@ -712,7 +729,7 @@ impl ColourSplit {
         let n = (x1 - x0) as usize;
         let bg_count = &mut prefix.bg_count[..];
         bg_count[0] = 0;
-        let step = dimmed(COLOUR_STEP, bg_colour);
+        let step = self.dimmed(COLOUR_STEP, bg_colour);
         let columns = background_columns(n, step, |k| hue_dist(px(x0 + k as i64), bg_colour));
         for (k, is_bg) in columns.enumerate() {
             bg_count[k + 1] = bg_count[k] + u32::from(is_bg);
@@ -729,7 +746,7 @@ impl ColourSplit {
             && (lo..o1)
                 .map(|k| hue_dist(px(x0 + k as i64), bg_colour))
                 .sum::<u32>()
-                >= dimmed(OCCLUDER_STEP, bg_colour) * occluder_cols)
+                >= self.dimmed(OCCLUDER_STEP, bg_colour) * occluder_cols)
             .then_some(t)
     }
 
@@ -832,10 +849,10 @@ impl ColourSplit {
             rgb_mean3(rgb, x, y)
         };
         let beside = probe(if c.behind { c.b + 1 } else { c.a - 2 })?;
-        let step = dimmed(COLOUR_STEP, beside);
+        let step = self.dimmed(COLOUR_STEP, beside);
         if hue_dist(probe(c.a)?, beside) >= step
             || (c.closed
-                && (hue_dist(probe(c.b + 1)?, beside) > dimmed(SIDES_AGREE, beside)
+                && (hue_dist(probe(c.b + 1)?, beside) > self.dimmed(SIDES_AGREE, beside)
                     || (hue_dist(probe((c.a + c.b) / 2)?, beside) < step
                         && hue_dist(probe((c.a + 3 * c.b) / 4)?, beside) < step)))
         {
@@ -845,7 +862,7 @@ impl ColourSplit {
             side(c.b..c.b + SIDE)?
         } else if c.closed {
             let (left, right) = (side(c.a - SIDE..c.a)?, side(c.b..c.b + SIDE)?);
-            if hue_dist(left, right) > dimmed(SIDES_AGREE, beside) {
+            if hue_dist(left, right) > self.dimmed(SIDES_AGREE, beside) {
                 return None;
             }
             std::array::from_fn(|k| (left[k] + right[k]) / 2)
@@ -1014,8 +1031,8 @@ impl ColourSplit {
         };
         let clear = l.shadow_cols >= 2
             && l.occluder_cols >= 2
-            && 2 * hue_dist(mean(0..shadow_read), bg) <= dimmed(COLOUR_STEP, bg)
-            && sum(occluder) >= dimmed(OCCLUDER_STEP, bg) * l.occluder_cols as u32;
+            && 2 * hue_dist(mean(0..shadow_read), bg) <= self.dimmed(COLOUR_STEP, bg)
+            && sum(occluder) >= self.dimmed(OCCLUDER_STEP, bg) * l.occluder_cols as u32;
         (clear && 10 * l.hits >= 9 * n && l.hits >= no_shadow + l.shadow_cols / 2)
             .then_some((s, shift.unwrap_or(s)))
     }

@@ -7,6 +7,7 @@ pub mod align;
 pub mod consensus;
 pub mod depthless;
 mod holes;
+pub mod noise;
 pub mod scanline;
 
 use crate::calib::Calibration;
@@ -104,6 +105,7 @@ impl Classifier {
             assert_eq!(rgb.len(), 3 * PIXELS, "an RGB image has 640x480x3 bytes");
             self.colour
                 .apply(raw, rgb, facts, &mut out.ir_labels, &mut self.filled);
+            self.warp.set_noise_scale(self.colour.noise_scale());
         }
         consensus::settle(&mut out.ir_labels);
         self.warp.apply_with_colour(

@@ -13,8 +13,7 @@
 //! row: no search along the row, which keeps the many holes of a real frame cheap.
 
 use super::{
-    ceil, dimmed, hole_span, hue_dist, rgb_at, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE,
-    SIDES_AGREE,
+    ceil, hole_span, hue_dist, rgb_at, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE, SIDES_AGREE,
 };
 use crate::labels::{DETACHED, NO_DEPTH, OTHER, WIDTH};
 
@@ -152,13 +151,13 @@ impl ColourSplit {
             return false;
         };
         let bg = match mean(h.b..h.b + SIDE, h.bg) {
-            Some(right) if hue_dist(left, right) <= dimmed(SIDES_AGREE, left) => {
+            Some(right) if hue_dist(left, right) <= self.dimmed(SIDES_AGREE, left) => {
                 std::array::from_fn(|k| (left[k] + right[k]) / 2)
             }
             _ => left,
         };
         // The colour steps for this background's brightness.
-        let step = dimmed(COLOUR_STEP, bg);
+        let step = self.dimmed(COLOUR_STEP, bg);
         // The occluder's RGB columns.
         let at = self.raw_at_disp(self.disp(o.bg) + shift as f64);
         let (x0, y) = self.project(o.a as f64 - 0.5, v, at);
