@@ -379,6 +379,65 @@ fn bench_classify_times_each_frame_and_its_mirror_next_to_a_plain_copy() {
 }
 
 #[test]
+fn synth_takes_the_depth_sensors_noise() {
+    let tmp = tempfile::tempdir().unwrap();
+    let make = |name: &str, extra: &[&str]| {
+        let (rec, gt) = (tmp.path().join(name), tmp.path().join(format!("{name}-gt")));
+        let (rec, gt) = (rec.display().to_string(), gt.display().to_string());
+        let mut args = vec![
+            "synth", &rec, "--gt", &gt, "--scene", "box", "--frames", "1", "--ideal",
+        ];
+        args.extend_from_slice(extra);
+        umbra(&args);
+        let mut raw = vec![0u16; PIXELS];
+        Recording::open(Path::new(&rec))
+            .unwrap()
+            .read_depth(0, &mut raw)
+            .unwrap();
+        let meta = std::fs::read_to_string(Path::new(&gt).join("meta.toml")).unwrap();
+        (raw, meta)
+    };
+    let (clean, _) = make("clean", &[]);
+    let (noisy, meta) = make("noisy", &["--depth-noise", "3"]);
+    assert!(meta.contains("noise_sigma_raw = 3.0"), "{meta}");
+    // The same holes; on the measured pixels Gaussian noise of σ = 3 raw units (rounded: the
+    // variance grows by 1/12).
+    let residuals: Vec<f64> = clean
+        .iter()
+        .zip(&noisy)
+        .filter_map(|(&c, &n)| {
+            assert_eq!(c == 2047, n == 2047, "a hole in one frame only");
+            (c != 2047).then(|| f64::from(n) - f64::from(c))
+        })
+        .collect();
+    let n = residuals.len() as f64;
+    assert!(n > 0.5 * PIXELS as f64, "{n} measured pixels");
+    let mean = residuals.iter().sum::<f64>() / n;
+    let sigma = (residuals.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / n).sqrt();
+    // The clean frame's values are rounded once: the mean moves by their rounding, under half a unit.
+    assert!(mean.abs() < 0.5, "mean residual {mean:.3}");
+    assert!(
+        (sigma - (9.0f64 + 1.0 / 12.0).sqrt()).abs() < 0.1,
+        "noise σ {sigma:.3}"
+    );
+
+    let out = Command::new(env!("CARGO_BIN_EXE_umbra"))
+        .args([
+            "synth",
+            "--suite",
+            &tmp.path().join("x").display().to_string(),
+        ])
+        .args(["--depth-noise", "20"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("--depth-noise"),
+        "{err}"
+    );
+}
+
+#[test]
 fn synth_takes_the_colour_cameras_noise_exposure_and_softness() {
     let tmp = tempfile::tempdir().unwrap();
     let make = |name: &str, extra: &[&str]| {

@@ -28,7 +28,11 @@ pub fn rgb_noise(rgb: &[u8]) -> f32 {
         "an RGB image has 640x480x3 bytes"
     );
     let (mut sum, mut n) = (0u32, 0u32);
-    for row in rgb.chunks_exact(3 * WIDTH).skip(ROW_STEP / 2).step_by(ROW_STEP) {
+    for row in rgb
+        .chunks_exact(3 * WIDTH)
+        .skip(ROW_STEP / 2)
+        .step_by(ROW_STEP)
+    {
         // Each channel's neighbours are 3 bytes apart. Lanes of 16-bit sums, reduced once per
         // row (at most 60 blocks of 63 each: no overflow), vectorise; a row's last few bytes
         // that fill no block are left out.
