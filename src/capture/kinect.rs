@@ -19,14 +19,12 @@ use super::Source;
 use crate::calib::Calibration;
 use crate::error::{Error, Result};
 use crate::pipeline::Frame;
-use crate::recording::{device_json, Recording};
+use crate::recording::{device_json, Recording, MAX_RGB_GAP_S};
 
 /// Buffers per stream between the USB callbacks and the pipeline: about a quarter second at 30 fps.
 const POOL: usize = 8;
 /// RGB frames kept to pair with depth; the streams run at the same rate, so two suffice.
 const RECENT_RGB: usize = 2;
-/// An RGB frame received further than this from a depth frame (host time) is not its pair.
-const MAX_RGB_GAP_S: f64 = 0.1;
 /// The next RGB frame is waited for when it is due this soon after the depth frame (fraction of
 /// a frame period, 3.3 ms at 30 fps) and would be nearer to it than the last one received. The
 /// streams run at one rate with a fixed phase, so this costs latency only when that phase is

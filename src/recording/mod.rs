@@ -152,6 +152,30 @@ impl Recording {
         self.frames.is_empty()
     }
 
+    /// Depth frames with no RGB frame within [`MAX_RGB_GAP_S`]: those are classified from depth
+    /// alone.
+    pub fn frames_without_rgb(&self) -> usize {
+        self.frames.iter().filter(|f| f.rgb.is_none()).count()
+    }
+
+    /// Warns (tracing) when depth frames have no RGB frame to pair with, which costs them the
+    /// colour split: a user replaying a recording whose colour stream stopped should know.
+    pub fn warn_missing_rgb(&self) {
+        let (missing, n) = (self.frames_without_rgb(), self.len());
+        if missing == n {
+            tracing::warn!(
+                "{}: no RGB frames: classified from depth alone (occluders that return no depth are not split off their shadows)",
+                self.dir.display()
+            );
+        } else if missing > 0 {
+            tracing::warn!(
+                "{}: {missing} of {n} depth frames have no RGB frame within {} ms: those are classified from depth alone",
+                self.dir.display(),
+                (MAX_RGB_GAP_S * 1e3).round()
+            );
+        }
+    }
+
     /// The calibration to classify with.
     pub fn calibration(&self) -> &Calibration {
         &self.calibration
@@ -242,7 +266,13 @@ fn parse_name(name: &str, line: usize) -> std::result::Result<Entry, &'static st
     })
 }
 
-/// Pairs each depth entry with the RGB entry nearest in host time.
+/// An RGB frame further than this from a depth frame (host time, seconds) is not its pair: the
+/// colour stream stopped or dropped frames, and a stale image would misplace every colour edge.
+/// The live source holds to the same, so a replay pairs as the daemon did.
+pub const MAX_RGB_GAP_S: f64 = 0.1;
+
+/// Pairs each depth entry with the RGB entry nearest in host time, if one is within
+/// [`MAX_RGB_GAP_S`].
 fn pair_frames(entries: &[Entry]) -> Vec<Frame> {
     let mut rgb: Vec<&Entry> = entries.iter().filter(|e| e.stream == Stream::Rgb).collect();
     rgb.sort_by(|a, b| a.unix_time.total_cmp(&b.unix_time));
@@ -256,6 +286,7 @@ fn pair_frames(entries: &[Entry]) -> Vec<Frame> {
                 .into_iter()
                 .flatten()
                 .filter_map(|k| rgb.get(k))
+                .filter(|r| (r.unix_time - d.unix_time).abs() <= MAX_RGB_GAP_S)
                 .min_by(|a, b| {
                     (a.unix_time - d.unix_time)
                         .abs()
@@ -329,5 +360,23 @@ mod tests {
         assert_eq!(f.len(), 2);
         assert_eq!(f[0].rgb.as_ref().unwrap().device_ts, 2);
         assert_eq!(f[1].rgb.as_ref().unwrap().device_ts, 4);
+    }
+
+    #[test]
+    fn a_stale_rgb_frame_is_no_pair() {
+        // The colour stream stopped after its first frame: the depth frames 0.15 s and 1 s on
+        // get none, the one 0.05 s on still pairs.
+        let e = parse_index(
+            Path::new("I"),
+            "r-10.0-0.ppm
+d-10.05-1.pgm
+d-10.15-2.pgm
+d-11.0-3.pgm
+",
+        )
+        .unwrap();
+        let f = pair_frames(&e);
+        assert_eq!(f[0].rgb.as_ref().unwrap().device_ts, 0);
+        assert!(f[1].rgb.is_none() && f[2].rgb.is_none());
     }
 }
