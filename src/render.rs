@@ -117,6 +117,118 @@ pub fn render_panels(
     img
 }
 
+/// Titles of the second row, drawn when ground truth is given ([`render_with_truth`]).
+pub const TRUTH_TITLES: [&str; PANELS as usize] = [
+    "IR view: ground truth",
+    "IR errors: bright=missed, dim=false",
+    "RGB errors: bright=missed, dim=false",
+];
+/// How bright a correctly labelled pixel stays in an error panel, so that errors stand out.
+const AGREE_DIM: f32 = 0.35;
+/// How bright a falsely labelled pixel's (predicted) class colour is drawn.
+const FALSE_DIM: f32 = 0.5;
+
+/// Ground-truth label maps (SPEC §4 codes, 640·480) of the views that have one.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Truth<'a> {
+    /// IR (depth) view.
+    pub ir: Option<&'a [u8]>,
+    /// RGB view.
+    pub rgb: Option<&'a [u8]>,
+}
+
+/// Top-left corner of panel `k` of the second row [`render_with_truth`] draws.
+pub fn truth_panel_origin(k: u32) -> (u32, u32) {
+    (k * (WIDTH as u32 + GAP), 2 * TITLE_HEIGHT + HEIGHT as u32)
+}
+
+/// [`render_panels`] with a second row against ground truth: the IR view's ground truth, then
+/// each view's errors. Where the labels agree the error panels show the depth (IR) or colour
+/// image (RGB), dimmed; a pixel the ground truth gives a label the frame missed shows that
+/// label's colour, bright; a pixel labelled where the ground truth has depth shows the label
+/// given, dim. A view without ground truth says so.
+pub fn render_with_truth(
+    rgb: Option<&[u8]>,
+    raw: &[u16],
+    calib: &Calibration,
+    classified: &Classified,
+    truth: Truth,
+) -> RgbImage {
+    let top = render_panels(rgb, raw, calib, classified);
+    let (w, h) = (WIDTH as u32, HEIGHT as u32);
+    let panels_end = TITLE_HEIGHT + h;
+    let mut img = RgbImage::from_pixel(top.width(), top.height() + TITLE_HEIGHT + h, STRIP);
+    for (x, y, p) in top.enumerate_pixels() {
+        // The legend moves below the second row.
+        let y = if y < panels_end {
+            y
+        } else {
+            y + TITLE_HEIGHT + h
+        };
+        img.put_pixel(x, y, *p);
+    }
+    let rgb = rgb.filter(|c| c.len() == PIXELS * 3);
+    let colour_at = |i: usize| rgb.map_or([0, 0, 0], |c| [c[3 * i], c[3 * i + 1], c[3 * i + 2]]);
+    let grey_at = |i: usize| [depth_grey(calib, raw.get(i).copied()); 3];
+    let truth_ir = truth.ir.filter(|t| t.len() == PIXELS);
+    let truth_rgb = truth.rgb.filter(|t| t.len() == PIXELS);
+    let label = |l: Option<&u8>, i: usize| match l {
+        Some(&VALID) => grey_at(i),
+        Some(&l) if (l as usize) < CLASSES => labels::COLOURS[l as usize],
+        _ => [0, 0, 0],
+    };
+    for i in 0..PIXELS {
+        let (x, y) = ((i % WIDTH) as u32, (i / WIDTH) as u32);
+        let put = |img: &mut RgbImage, k: u32, p: [u8; 3]| {
+            let (x0, y0) = truth_panel_origin(k);
+            img.put_pixel(x0 + x, y0 + y, Rgb(p));
+        };
+        if let Some(t) = truth_ir {
+            put(&mut img, 0, label(t.get(i), i));
+            let pred = classified.ir_labels.get(i).copied();
+            put(&mut img, 1, error_colour(t[i], pred, grey_at(i)));
+        }
+        if let Some(t) = truth_rgb {
+            let pred = classified.rgb_labels.get(i).copied();
+            put(&mut img, 2, error_colour(t[i], pred, colour_at(i)));
+        }
+    }
+    for (k, title) in TRUTH_TITLES.iter().enumerate() {
+        let (x0, y0) = truth_panel_origin(k as u32);
+        draw_text(
+            &mut img,
+            x0 + 8,
+            y0 - TITLE_HEIGHT + (TITLE_HEIGHT - CELL) / 2,
+            title,
+            INK,
+        );
+        let missing = if k == 2 {
+            truth_rgb.is_none()
+        } else {
+            truth_ir.is_none()
+        };
+        if missing {
+            let text = "no ground truth";
+            let tw = text.len() as u32 * CELL;
+            draw_text(&mut img, x0 + (w - tw) / 2, y0 + (h - CELL) / 2, text, INK);
+        }
+    }
+    img
+}
+
+/// The colour of one error-panel pixel: `base` dimmed where `pred` agrees with `truth`, the
+/// ground truth's class bright where it has a label the frame missed, the predicted class dim
+/// where the ground truth has depth.
+fn error_colour(truth: u8, pred: Option<u8>, base: [u8; 3]) -> [u8; 3] {
+    let dim = |c: [u8; 3], f: f32| c.map(|v| (f32::from(v) * f).round() as u8);
+    match pred {
+        Some(p) if p == truth => dim(base, AGREE_DIM),
+        _ if truth != VALID && (truth as usize) < CLASSES => labels::COLOURS[truth as usize],
+        Some(p) if (p as usize) < CLASSES => dim(labels::COLOURS[p as usize], FALSE_DIM),
+        _ => [0, 0, 0],
+    }
+}
+
 /// Grey level of a raw value: linear in depth from bright at 0.5 m to dark at 5 m; black when
 /// there is no depth (a VALID label without depth would be a classifier bug, drawn as "nothing").
 fn depth_grey(calib: &Calibration, raw: Option<u16>) -> u8 {

@@ -289,6 +289,84 @@ fn render_draws_three_panels_with_legend() {
 }
 
 #[test]
+fn render_against_ground_truth_marks_each_missed_pixel_in_its_true_colour() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (rec, gt) = synth(tmp.path(), "complex", "1");
+    let gt = Path::new(&gt);
+    let labels = tmp.path().join("labels");
+    umbra(&[
+        "replay",
+        &rec,
+        "--export-labels",
+        &labels.display().to_string(),
+    ]);
+    let png = tmp.path().join("truth.png");
+    let render = |gt: &Path| {
+        umbra(&[
+            "render",
+            &rec,
+            "--gt",
+            &gt.display().to_string(),
+            "--out",
+            &png.display().to_string(),
+        ]);
+        image::open(&png).unwrap().to_rgb8()
+    };
+    let img = render(gt);
+    use umbra::render::{truth_panel_origin, LEGEND_HEIGHT, TITLE_HEIGHT};
+    assert_eq!(img.height(), 2 * (TITLE_HEIGHT + 480) + LEGEND_HEIGHT);
+
+    // The IR error panel, counted against the label PNGs read here: a pixel the ground truth
+    // labels a shadow or other hole and the frame labels otherwise is that label's paper colour;
+    // no pixel where the two agree is.
+    let (mut truth, mut pred) = (vec![0u8; PIXELS], vec![0u8; PIXELS]);
+    read_label_png(&label_path(gt, 0, "depth"), &mut truth).unwrap();
+    read_label_png(&label_path(&labels, 0, "depth"), &mut pred).unwrap();
+    let (x0, y0) = truth_panel_origin(1);
+    let (mut missed, mut shown) = (0, 0);
+    for i in 0..PIXELS {
+        let p = img
+            .get_pixel(x0 + (i % 640) as u32, y0 + (i / 640) as u32)
+            .0;
+        let paper = umbra::labels::COLOURS[truth[i] as usize];
+        if truth[i] != pred[i] && truth[i] != 0 {
+            missed += 1;
+            assert_eq!(
+                p, paper,
+                "pixel {i}: truth {}, labelled {}",
+                truth[i], pred[i]
+            );
+        }
+        shown += usize::from(p == paper && truth[i] != 0);
+    }
+    assert!(missed > 100, "a complex scene has misses ({missed})");
+    assert_eq!(
+        shown, missed,
+        "only missed pixels are drawn in their true colour"
+    );
+
+    // Without the RGB view's ground truth its panel says so; without any, a one-line error.
+    std::fs::remove_file(label_path(gt, 0, "rgb")).unwrap();
+    let img = render(gt);
+    let (x0, y0) = truth_panel_origin(2);
+    let inked = (y0 + 220..y0 + 260)
+        .flat_map(|y| (x0 + 180..x0 + 460).map(move |x| (x, y)))
+        .any(|(x, y)| img.get_pixel(x, y).0 == [235, 235, 235]);
+    assert!(inked, "caption in the RGB error panel");
+    std::fs::remove_file(label_path(gt, 0, "depth")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_umbra"))
+        .args(["render", &rec, "--gt", &gt.display().to_string()])
+        .args(["--out", &png.display().to_string()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("no ground truth for frame 0"),
+        "{err}"
+    );
+}
+
+#[test]
 fn replay_to_mcap_and_tail_back_gives_the_same_labels() {
     let tmp = tempfile::tempdir().unwrap();
     let (rec, _) = synth(tmp.path(), "complex", "2");

@@ -8,8 +8,9 @@ use crate::classify::{Classified, Classifier};
 use crate::error::{Error, Result};
 use crate::labels::PIXELS;
 use crate::recording::Recording;
-use crate::render::render_panels;
+use crate::render::{render_panels, render_with_truth, Truth};
 use crate::sink::labels::write_atomically;
+use crate::sink::labels::{label_path, read_label_png};
 
 /// Arguments of `umbra render`.
 #[derive(clap::Args, Debug)]
@@ -25,6 +26,10 @@ pub struct Args {
     /// Settings file (see config/umbra.toml); built-in defaults without it.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
+    /// Ground truth (SPEC §4 label PNGs, as `umbra eval --gt` reads them): adds a row with the
+    /// IR view's ground truth and where each view's labels differ from it.
+    #[arg(long, value_name = "DIR")]
+    pub gt: Option<PathBuf>,
 }
 
 /// Runs `umbra render`.
@@ -45,6 +50,11 @@ pub fn run(a: Args) -> Result<()> {
             if n == 1 { "" } else { "s" },
         )));
     }
+    // Ground truth first: a missing or bad file fails before any work.
+    let truth = match &a.gt {
+        Some(dir) => Some(read_truth(dir, a.frame)?),
+        None => None,
+    };
     let mut raw = vec![0u16; PIXELS];
     rec.read_depth(a.frame, &mut raw)?;
     let mut rgb = vec![0u8; PIXELS * 3];
@@ -55,7 +65,17 @@ pub fn run(a: Args) -> Result<()> {
         has_rgb.then_some(&rgb[..]),
         &mut out,
     );
-    let img = render_panels(has_rgb.then_some(&rgb[..]), &raw, rec.calibration(), &out);
+    let colour = has_rgb.then_some(&rgb[..]);
+    let img = match &truth {
+        Some((ir, rgb_view)) => {
+            let truth = Truth {
+                ir: ir.as_deref(),
+                rgb: rgb_view.as_deref(),
+            };
+            render_with_truth(colour, &raw, rec.calibration(), &out, truth)
+        }
+        None => render_panels(colour, &raw, rec.calibration(), &out),
+    };
 
     let mut png = Vec::new();
     image::codecs::png::PngEncoder::new(&mut png)
@@ -67,4 +87,30 @@ pub fn run(a: Args) -> Result<()> {
         )
         .map_err(|e| Error::input(&a.out, "", format!("encoding PNG failed: {e}")))?;
     write_atomically(&a.out, &png)
+}
+
+/// Ground-truth label maps of the IR and the RGB view, where there is a file.
+type TruthMaps = (Option<Vec<u8>>, Option<Vec<u8>>);
+
+/// The ground-truth label maps of frame `i` in `dir`, per view, where there is a file; at least
+/// one view must have one.
+fn read_truth(dir: &std::path::Path, i: usize) -> Result<TruthMaps> {
+    let read = |view: &str| -> Result<Option<Vec<u8>>> {
+        let path = label_path(dir, i, view);
+        if !path.is_file() {
+            return Ok(None);
+        }
+        let mut labels = vec![0u8; PIXELS];
+        read_label_png(&path, &mut labels)?;
+        Ok(Some(labels))
+    };
+    let (ir, rgb) = (read("depth")?, read("rgb")?);
+    if ir.is_none() && rgb.is_none() {
+        return Err(Error::input(
+            label_path(dir, i, "depth"),
+            "",
+            format!("missing: no ground truth for frame {i} (expected {i:06}.depth.png and/or {i:06}.rgb.png, SPEC §4)"),
+        ));
+    }
+    Ok((ir, rgb))
 }
