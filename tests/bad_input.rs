@@ -571,6 +571,51 @@ fn eval_ground_truth_value_not_a_label() {
 }
 
 #[test]
+fn eval_reads_16_bit_ground_truth_as_the_8_bit_one() {
+    // numpy and OpenCV write uint16 label arrays as 16-bit grey PNGs: the same codes.
+    let c = Case::new();
+    let json = || {
+        let out = Command::new(env!("CARGO_BIN_EXE_umbra"))
+            .args(["eval", &s(&c.rec()), "--gt", &s(&c.gt()), "--json"])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out.stdout
+    };
+    let eight = json();
+    let path = c.gt().join("000000.depth.png");
+    let codes = image::open(&path).unwrap().into_luma8().into_raw();
+    let wide: Vec<u16> = codes.iter().map(|&v| u16::from(v)).collect();
+    let save = |px: Vec<u16>| {
+        image::ImageBuffer::<image::Luma<u16>, _>::from_raw(W as u32, H as u32, px)
+            .unwrap()
+            .save(&path)
+            .unwrap()
+    };
+    save(wide.clone());
+    assert_eq!(json(), eight, "same scores from the 16-bit file");
+    let mut bad = wide;
+    bad[5 * W + 7] = 300;
+    save(bad);
+    one_line_error(
+        umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]),
+        &[&s(&path), "pixel (7, 5)", "300"],
+    );
+    // Colour label pictures are not label maps.
+    image::RgbImage::new(W as u32, H as u32)
+        .save(&path)
+        .unwrap();
+    one_line_error(
+        umbra(&["eval", &s(&c.rec()), "--gt", &s(&c.gt())]),
+        &[&s(&path), "colour type", "8-bit grey"],
+    );
+}
+
+#[test]
 fn eval_ground_truth_for_no_frame_of_the_recording() {
     let c = Case::new();
     // Label files there are, but numbered past the recording's frames: another recording's.

@@ -36,7 +36,7 @@ pub fn read_label_png(path: &Path, out: &mut [u8]) -> Result<()> {
     Ok(())
 }
 
-/// Reads a 640×480 8-bit grey PNG into `out` (640·480 bytes). `missing` is the problem reported
+/// Reads a 640×480 8-bit (or 16-bit, values under 256) grey PNG into `out` (640·480 bytes). `missing` is the problem reported
 /// when the file does not exist; `what` ends the message for a wrong colour type.
 pub fn read_grey_png(path: &Path, out: &mut [u8], missing: &str, what: &str) -> Result<()> {
     assert_eq!(out.len(), PIXELS, "a 640x480 frame");
@@ -59,17 +59,30 @@ pub fn read_grey_png(path: &Path, out: &mut [u8], missing: &str, what: &str) -> 
             format!("size {w}x{h} is wrong, expected {WIDTH}x{HEIGHT}"),
         ));
     }
-    if dec.color_type() != image::ColorType::L8 {
-        return Err(Error::input(
+    match dec.color_type() {
+        image::ColorType::L8 => dec.read_image(out).map_err(bad_png),
+        // 16-bit grey holds the same values (numpy and OpenCV write uint16 arrays so).
+        image::ColorType::L16 => {
+            let mut wide = vec![0u8; 2 * PIXELS];
+            dec.read_image(&mut wide).map_err(bad_png)?;
+            for (i, (o, v)) in out.iter_mut().zip(wide.chunks_exact(2)).enumerate() {
+                let v = u16::from_ne_bytes([v[0], v[1]]);
+                *o = u8::try_from(v).map_err(|_| {
+                    Error::input(
+                        path,
+                        format!("pixel ({}, {})", i % WIDTH, i / WIDTH),
+                        format!("16-bit value {v} does not fit 8 bits {what}"),
+                    )
+                })?;
+            }
+            Ok(())
+        }
+        other => Err(Error::input(
             path,
             "header",
-            format!(
-                "colour type {:?} is wrong, expected 8-bit grey (L8) {what}",
-                dec.color_type()
-            ),
-        ));
+            format!("colour type {other:?} is wrong, expected 8-bit grey (L8; 16-bit grey is read too) {what}"),
+        )),
     }
-    dec.read_image(out).map_err(bad_png)
 }
 
 /// Writes labels as a SPEC §4 PNG. The file appears whole or not at all: it is written beside
