@@ -31,17 +31,50 @@ fn synth(dir: &Path, scene: &str, frames: &str) -> (String, String) {
     (rec, gt)
 }
 
+/// Runs `umbra` expecting it to fail; its standard error.
+fn umbra_fails(args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_umbra"))
+        .args(args)
+        .output()
+        .expect("run umbra");
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "umbra {args:?} should fail: {err}");
+    err
+}
+
+/// Replays `rec` with `--export-labels dir`.
+fn export_labels(rec: &str, dir: &Path) -> Output {
+    umbra(&["replay", rec, "--export-labels", &dir.display().to_string()])
+}
+
+/// `umbra synth` of the hand-checkable box scene, one frame with the noise-free sensor, into
+/// `dir/name` and `dir/name-gt`, with `extra` switches; the two folders.
+fn synth_box(dir: &Path, name: &str, extra: &[&str]) -> (std::path::PathBuf, std::path::PathBuf) {
+    let (rec, gt) = (dir.join(name), dir.join(format!("{name}-gt")));
+    let (r, g) = (rec.display().to_string(), gt.display().to_string());
+    let mut args = vec![
+        "synth", &r, "--gt", &g, "--scene", "box", "--frames", "1", "--ideal",
+    ];
+    args.extend_from_slice(extra);
+    umbra(&args);
+    (rec, gt)
+}
+
+/// The mean and standard deviation of `residuals`, after checking there are at least `min`.
+fn mean_and_sigma(residuals: &[f64], min: f64) -> (f64, f64) {
+    let n = residuals.len() as f64;
+    assert!(n > min, "{n} values, expected more than {min}");
+    let mean = residuals.iter().sum::<f64>() / n;
+    let sigma = (residuals.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / n).sqrt();
+    (mean, sigma)
+}
+
 #[test]
 fn replay_exports_exactly_what_the_classifier_computes() {
     let tmp = tempfile::tempdir().unwrap();
     let (rec, _) = synth(tmp.path(), "complex", "3");
     let out_dir = tmp.path().join("labels");
-    let out = umbra(&[
-        "replay",
-        &rec,
-        "--export-labels",
-        &out_dir.display().to_string(),
-    ]);
+    let out = export_labels(&rec, &out_dir);
     let summary = String::from_utf8_lossy(&out.stdout);
     assert!(summary.starts_with("3 frames in "), "{summary}");
     assert!(
@@ -133,12 +166,7 @@ fn eval_scores_the_frames_and_views_that_have_ground_truth() {
     let (rec, gt) = synth(tmp.path(), "complex", "3");
     let gt = Path::new(&gt);
     let labels = tmp.path().join("labels");
-    umbra(&[
-        "replay",
-        &rec,
-        "--export-labels",
-        &labels.display().to_string(),
-    ]);
+    export_labels(&rec, &labels);
     std::fs::remove_file(label_path(gt, 1, "rgb")).unwrap();
     std::fs::remove_file(label_path(gt, 2, "depth")).unwrap();
     std::fs::remove_file(label_path(gt, 2, "rgb")).unwrap();
@@ -294,12 +322,7 @@ fn render_against_ground_truth_marks_each_missed_pixel_in_its_true_colour() {
     let (rec, gt) = synth(tmp.path(), "complex", "1");
     let gt = Path::new(&gt);
     let labels = tmp.path().join("labels");
-    umbra(&[
-        "replay",
-        &rec,
-        "--export-labels",
-        &labels.display().to_string(),
-    ]);
+    export_labels(&rec, &labels);
     let png = tmp.path().join("truth.png");
     let render = |gt: &Path| {
         umbra(&[
@@ -354,16 +377,16 @@ fn render_against_ground_truth_marks_each_missed_pixel_in_its_true_colour() {
         .any(|(x, y)| img.get_pixel(x, y).0 == [235, 235, 235]);
     assert!(inked, "caption in the RGB error panel");
     std::fs::remove_file(label_path(gt, 0, "depth")).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_umbra"))
-        .args(["render", &rec, "--gt", &gt.display().to_string()])
-        .args(["--out", &png.display().to_string()])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        !out.status.success() && err.contains("no ground truth for frame 0"),
-        "{err}"
-    );
+    let gt = gt.display().to_string();
+    let err = umbra_fails(&[
+        "render",
+        &rec,
+        "--gt",
+        &gt,
+        "--out",
+        &png.display().to_string(),
+    ]);
+    assert!(err.contains("no ground truth for frame 0"), "{err}");
 }
 
 #[test]
@@ -443,12 +466,7 @@ fn bench_classify_times_each_frame_and_its_mirror_next_to_a_plain_copy() {
         "{report}"
     );
 
-    let bad = Command::new(env!("CARGO_BIN_EXE_umbra"))
-        .args(["bench", "classify", dir, "--frames", "0"])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&bad.stderr);
-    assert!(!bad.status.success());
+    let err = umbra_fails(&["bench", "classify", dir, "--frames", "0"]);
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     assert!(
         err.contains("complex-room") && err.contains("no frames to time"),
@@ -460,20 +478,13 @@ fn bench_classify_times_each_frame_and_its_mirror_next_to_a_plain_copy() {
 fn synth_takes_the_depth_sensors_noise() {
     let tmp = tempfile::tempdir().unwrap();
     let make = |name: &str, extra: &[&str]| {
-        let (rec, gt) = (tmp.path().join(name), tmp.path().join(format!("{name}-gt")));
-        let (rec, gt) = (rec.display().to_string(), gt.display().to_string());
-        let mut args = vec![
-            "synth", &rec, "--gt", &gt, "--scene", "box", "--frames", "1", "--ideal",
-        ];
-        args.extend_from_slice(extra);
-        umbra(&args);
+        let (rec, gt) = synth_box(tmp.path(), name, extra);
         let mut raw = vec![0u16; PIXELS];
-        Recording::open(Path::new(&rec))
+        Recording::open(&rec)
             .unwrap()
             .read_depth(0, &mut raw)
             .unwrap();
-        let meta = std::fs::read_to_string(Path::new(&gt).join("meta.toml")).unwrap();
-        (raw, meta)
+        (raw, std::fs::read_to_string(gt.join("meta.toml")).unwrap())
     };
     let (clean, _) = make("clean", &[]);
     let (noisy, meta) = make("noisy", &["--depth-noise", "3"]);
@@ -488,30 +499,12 @@ fn synth_takes_the_depth_sensors_noise() {
             (c != 2047).then(|| f64::from(n) - f64::from(c))
         })
         .collect();
-    let n = residuals.len() as f64;
-    assert!(n > 0.5 * PIXELS as f64, "{n} measured pixels");
-    let mean = residuals.iter().sum::<f64>() / n;
-    let sigma = (residuals.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / n).sqrt();
+    let (mean, sigma) = mean_and_sigma(&residuals, 0.5 * PIXELS as f64);
     // The clean frame's values are rounded once: the mean moves by their rounding, under half a unit.
     assert!(mean.abs() < 0.5, "mean residual {mean:.3}");
     assert!(
         (sigma - (9.0f64 + 1.0 / 12.0).sqrt()).abs() < 0.1,
         "noise σ {sigma:.3}"
-    );
-
-    let out = Command::new(env!("CARGO_BIN_EXE_umbra"))
-        .args([
-            "synth",
-            "--suite",
-            &tmp.path().join("x").display().to_string(),
-        ])
-        .args(["--depth-noise", "20"])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        !out.status.success() && err.contains("--depth-noise"),
-        "{err}"
     );
 }
 
@@ -519,23 +512,14 @@ fn synth_takes_the_depth_sensors_noise() {
 fn synth_takes_the_colour_cameras_noise_exposure_and_softness() {
     let tmp = tempfile::tempdir().unwrap();
     let make = |name: &str, extra: &[&str]| {
-        let (rec, gt) = (tmp.path().join(name), tmp.path().join(format!("{name}-gt")));
-        let (rec, gt) = (rec.display().to_string(), gt.display().to_string());
-        let mut args = vec![
-            "synth", &rec, "--gt", &gt, "--scene", "box", "--frames", "1",
-        ];
-        args.extend_from_slice(&["--ideal", "--seed", "3"]);
-        args.extend_from_slice(extra);
-        umbra(&args);
+        let args: Vec<&str> = ["--seed", "3"].iter().chain(extra).copied().collect();
+        let (rec, gt) = synth_box(tmp.path(), name, &args);
         let mut rgb = vec![0u8; 3 * PIXELS];
-        assert!(Recording::open(Path::new(&rec))
+        assert!(Recording::open(&rec)
             .unwrap()
             .read_rgb(0, &mut rgb)
             .unwrap());
-        (
-            rgb,
-            std::fs::read_to_string(Path::new(&gt).join("meta.toml")).unwrap(),
-        )
+        (rgb, std::fs::read_to_string(gt.join("meta.toml")).unwrap())
     };
     let (clean, _) = make("clean", &[]);
     let (dim, meta) = make("dim", &["--rgb-gain", "0.5", "--rgb-noise", "6"]);
@@ -551,10 +535,7 @@ fn synth_takes_the_colour_cameras_noise_exposure_and_softness() {
         .filter(|&(&c, _)| (40..=240).contains(&c))
         .map(|(&c, &d)| f64::from(d) - f64::from(c) * 0.5)
         .collect();
-    let n = residuals.len() as f64;
-    assert!(n > 0.5 * (3 * PIXELS) as f64, "{n} values in range");
-    let mean = residuals.iter().sum::<f64>() / n;
-    let sigma = (residuals.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / n).sqrt();
+    let (mean, sigma) = mean_and_sigma(&residuals, 0.5 * (3 * PIXELS) as f64);
     assert!(mean.abs() < 0.3, "mean residual {mean:.2}");
     assert!((sigma - 6.0).abs() < 0.3, "noise σ {sigma:.2}");
 
@@ -573,26 +554,20 @@ fn synth_takes_the_colour_cameras_noise_exposure_and_softness() {
         };
         assert!(gt("soft") == gt("clean"), "{view} labels");
     }
+}
 
+#[test]
+fn synth_refuses_out_of_range_sensor_switches() {
     // Out-of-range values are one-line errors naming the flag.
+    let tmp = tempfile::tempdir().unwrap();
+    let suite = tmp.path().join("x").display().to_string();
     for (flag, value) in [
         ("--rgb-noise", "100"),
         ("--rgb-gain", "0"),
         ("--rgb-gain", "nan"),
+        ("--depth-noise", "20"),
     ] {
-        let out = Command::new(env!("CARGO_BIN_EXE_umbra"))
-            .args([
-                "synth",
-                "--suite",
-                &tmp.path().join("x").display().to_string(),
-            ])
-            .args([flag, value])
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(
-            !out.status.success() && err.contains(flag),
-            "{flag} {value}: {err}"
-        );
+        let err = umbra_fails(&["synth", "--suite", &suite, flag, value]);
+        assert!(err.contains(flag), "{flag} {value}: {err}");
     }
 }
