@@ -83,12 +83,8 @@ pub fn render_panels(
             },
         );
         // Panel 2: IR-view labels; valid pixels grey by depth.
-        let p2 = match classified.ir_labels.get(i) {
-            Some(&VALID) => Rgb([depth_grey(calib, raw.get(i).copied()); 3]),
-            Some(&l) if (l as usize) < CLASSES => Rgb(labels::COLOURS[l as usize]),
-            _ => Rgb([0, 0, 0]),
-        };
-        img.put_pixel(x1 + x, y, p2);
+        let p2 = ir_label_colour(classified.ir_labels.get(i), calib, raw.get(i).copied());
+        img.put_pixel(x1 + x, y, Rgb(p2));
         // Panel 3: RGB-view labels tinted over the colour image (over black without one).
         let base = colour_at(i);
         let p3 = match classified.rgb_labels.get(i) {
@@ -172,11 +168,6 @@ pub fn render_with_truth(
     let grey_at = |i: usize| [depth_grey(calib, raw.get(i).copied()); 3];
     let truth_ir = truth.ir.filter(|t| t.len() == PIXELS);
     let truth_rgb = truth.rgb.filter(|t| t.len() == PIXELS);
-    let label = |l: Option<&u8>, i: usize| match l {
-        Some(&VALID) => grey_at(i),
-        Some(&l) if (l as usize) < CLASSES => labels::COLOURS[l as usize],
-        _ => [0, 0, 0],
-    };
     for i in 0..PIXELS {
         let (x, y) = ((i % WIDTH) as u32, (i / WIDTH) as u32);
         let put = |img: &mut RgbImage, k: u32, p: [u8; 3]| {
@@ -184,7 +175,11 @@ pub fn render_with_truth(
             img.put_pixel(x0 + x, y0 + y, Rgb(p));
         };
         if let Some(t) = truth_ir {
-            put(&mut img, 0, label(t.get(i), i));
+            put(
+                &mut img,
+                0,
+                ir_label_colour(t.get(i), calib, raw.get(i).copied()),
+            );
             let pred = classified.ir_labels.get(i).copied();
             put(&mut img, 1, error_colour(t[i], pred, grey_at(i)));
         }
@@ -214,6 +209,16 @@ pub fn render_with_truth(
         }
     }
     img
+}
+
+/// An IR-view label's colour: its paper colour, grey by the depth `raw` for a valid pixel, black
+/// for no label or a code that is none.
+fn ir_label_colour(label: Option<&u8>, calib: &Calibration, raw: Option<u16>) -> [u8; 3] {
+    match label {
+        Some(&VALID) => [depth_grey(calib, raw); 3],
+        Some(&l) if (l as usize) < CLASSES => labels::COLOURS[l as usize],
+        _ => [0, 0, 0],
+    }
 }
 
 /// The colour of one error-panel pixel: `base` dimmed where `pred` agrees with `truth`, the
