@@ -368,11 +368,7 @@ mod tests {
         // get none, the one 0.05 s on still pairs.
         let e = parse_index(
             Path::new("I"),
-            "r-10.0-0.ppm
-d-10.05-1.pgm
-d-10.15-2.pgm
-d-11.0-3.pgm
-",
+            "r-10.0-0.ppm\nd-10.05-1.pgm\nd-10.15-2.pgm\nd-11.0-3.pgm\n",
         )
         .unwrap();
         let f = pair_frames(&e);

@@ -19,7 +19,7 @@ pub fn read_label_png(path: &Path, out: &mut [u8]) -> Result<()> {
     read_grey_png(
         path,
         out,
-        "missing: ground truth needs a label PNG for every depth frame",
+        "missing: no such label PNG (SPEC §4 names them <frame:06>.depth.png and <frame:06>.rgb.png)",
         "with one label code per pixel",
     )?;
     if let Some(i) = out.iter().position(|&v| v as usize >= CLASSES) {
@@ -36,8 +36,9 @@ pub fn read_label_png(path: &Path, out: &mut [u8]) -> Result<()> {
     Ok(())
 }
 
-/// Reads a 640×480 8-bit (or 16-bit, values under 256) grey PNG into `out` (640·480 bytes). `missing` is the problem reported
-/// when the file does not exist; `what` ends the message for a wrong colour type.
+/// Reads a 640×480 8-bit (or 16-bit, values under 256) grey PNG into `out` (640·480 bytes).
+/// `missing` is the problem reported when the file does not exist; `what` ends the message for a
+/// wrong colour type.
 pub fn read_grey_png(path: &Path, out: &mut [u8], missing: &str, what: &str) -> Result<()> {
     assert_eq!(out.len(), PIXELS, "a 640x480 frame");
     let file = match std::fs::File::open(path) {
