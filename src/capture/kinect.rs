@@ -79,7 +79,7 @@ impl KinectSource {
                     rec.calibration_source()
                 ),
             ),
-            (None, Some(z)) => {
+            (None, Some((z, const_shift))) => {
                 let zp = device_json::ZeroPlane {
                     dcmos_emitter_distance: z.dcmos_emitter_dist.into(),
                     dcmos_rcmos_distance: z.dcmos_rcmos_dist.into(),
@@ -87,7 +87,7 @@ impl KinectSource {
                     reference_pixel_size: z.reference_pixel_size.into(),
                 };
                 let origin = format!("{which} factory calibration");
-                match device_json::from_zero_plane(&zp, Path::new(&origin)) {
+                match device_json::from_zero_plane(&zp, Some(const_shift), Path::new(&origin)) {
                     Ok(c) => (c, origin),
                     Err(e) => {
                         warn!("{e}; using NYU Kinect v1 defaults");

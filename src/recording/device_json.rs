@@ -1,9 +1,11 @@
 //! libfreenect's registration record (`device.json`, as newer `fakenect-record` writes it), used
 //! for the calibration when a recording has no `calibration.toml`.
 //!
-//! Only the zero-plane block matters here: `reference_distance` / `reference_pixel_size` give the
-//! IR focal length (the pixel size is for the 1280-wide sensor, hence the factor 2 at 640 px), and
-//! `dcmos_emitter_distance` / `dcmos_rcmos_distance` (cm) give the projector and RGB baselines.
+//! Only the zero-plane block and `const_shift` matter here: `reference_distance` /
+//! `reference_pixel_size` give the IR focal length (the pixel size is for the 1280-wide sensor,
+//! hence the factor 2 at 640 px), `dcmos_emitter_distance` / `dcmos_rcmos_distance` (cm) the
+//! projector and RGB baselines, and `const_shift` the raw value of zero disparity. Depth from raw
+//! then agrees with libfreenect's own `raw_to_mm_shift` table (`src/registration.c`).
 
 use std::path::Path;
 
@@ -15,6 +17,8 @@ use crate::error::{Error, Result};
 #[derive(Deserialize)]
 struct DeviceJson {
     reg_info: RegInfo,
+    /// Absent from hand-made files; the NYU model's zero-disparity value is used then.
+    const_shift: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -57,12 +61,17 @@ pub fn from_str(text: &str, path: &Path) -> Result<Calibration> {
             msg,
         )
     })?;
-    from_zero_plane(&d.reg_info.zero_plane_info, path)
+    from_zero_plane(&d.reg_info.zero_plane_info, d.const_shift, path)
 }
 
-/// Derives a calibration from the zero-plane numbers (NYU defaults for the rest); `path` names
-/// where they came from in error messages (a file, or a device).
-pub fn from_zero_plane(z: &ZeroPlane, path: &Path) -> Result<Calibration> {
+/// Derives a calibration from the zero-plane numbers and, when known, the registration's
+/// `const_shift` (NYU defaults for the rest); `path` names where they came from in error
+/// messages (a file, or a device).
+pub fn from_zero_plane(
+    z: &ZeroPlane,
+    const_shift: Option<f64>,
+    path: &Path,
+) -> Result<Calibration> {
     let key = |k: &str| format!("key reg_info.zero_plane_info.{k}");
     // Each value in a range a Kinect v1 can have, so a wrong one is reported under its own key
     // rather than as a derived calibration value the file does not contain.
@@ -105,6 +114,19 @@ pub fn from_zero_plane(z: &ZeroPlane, path: &Path) -> Result<Calibration> {
         50.0,
         "cm",
     )?;
+    let const_shift = const_shift
+        .map(|s| {
+            if s.is_finite() && (0.0..1000.0).contains(&s) {
+                Ok(s)
+            } else {
+                Err(Error::input(
+                    path,
+                    "key const_shift",
+                    format!("value {s} is not between 0 and 1000 raw units"),
+                ))
+            }
+        })
+        .transpose()?;
     let mut c = Calibration::nyu_default();
     let f = zpd / (2.0 * zpps);
     if !(50.0..5000.0).contains(&f) {
@@ -121,6 +143,11 @@ pub fn from_zero_plane(z: &ZeroPlane, path: &Path) -> Result<Calibration> {
     c.raw.baseline_m = emitter_cm / 100.0;
     // Raw values are 1/8-pixel disparity offsets, so the model's numerator is 8·f·b.
     c.raw.numerator = 8.0 * f * c.raw.baseline_m;
+    // libfreenect: shift = (raw − 4·const_shift)/4 − 0.375 sensor pixels on the zero plane, and
+    // depth = ref·dcl/(dcl − shift·pixel): zero disparity at raw = 4·dcl/pixel + 4·const_shift + 1.5.
+    if let Some(s) = const_shift {
+        c.raw.denominator = 4.0 * emitter_cm / zpps + 4.0 * s + 1.5;
+    }
     c.depth_to_rgb.translation.x = -rgb_cm / 100.0;
     c.validate()
         .map_err(|(k, why)| Error::input(path, format!("derived calibration key {k}"), why))?;
@@ -139,6 +166,49 @@ mod tests {
         assert!((c.depth.fx - 575.8).abs() < 0.1, "{}", c.depth.fx);
         assert!((c.raw.baseline_m - 0.075).abs() < 1e-9);
         assert!((c.depth_to_rgb.translation.x + 0.024).abs() < 1e-9);
+    }
+
+    /// Depth from raw as libfreenect's `raw_to_mm_shift` table gives it (`freenect_raw_to_mm` in
+    /// its `src/registration.c`, evaluated by hand and truncated to whole millimetres as it is):
+    /// the factory numbers of a Kinect v1 with two values of `const_shift`.
+    #[test]
+    fn depth_agrees_with_libfreenects_table() {
+        let json = |shift: &str| {
+            format!(
+                r#"{{"reg_info":{{"zero_plane_info":{{"dcmos_emitter_distance":7.5,"dcmos_rcmos_distance":2.4,
+                "reference_distance":120,"reference_pixel_size":0.1042}}}}{shift}}}"#
+            )
+        };
+        let cases = [
+            (
+                ",\"const_shift\":200",
+                [(600, 705), (800, 1193), (1000, 3864)],
+            ),
+            (
+                ",\"const_shift\":225",
+                [(500, 501), (800, 887), (1050, 2478)],
+            ),
+        ];
+        for (shift, table) in cases {
+            let c = from_str(&json(shift), Path::new("device.json")).unwrap();
+            for (raw, mm) in table {
+                let ours = 1000.0 * c.depth_m(raw).unwrap();
+                assert!(
+                    (0.0..1.0).contains(&(ours - f64::from(mm))),
+                    "{shift} raw {raw}: {ours} mm, libfreenect {mm}"
+                );
+            }
+        }
+        // Without const_shift (hand-made files) the NYU model's zero-disparity value stays.
+        let c = from_str(&json(""), Path::new("device.json")).unwrap();
+        assert_eq!(
+            c.raw.denominator,
+            Calibration::nyu_default().raw.denominator
+        );
+        let e = from_str(&json(",\"const_shift\":-3"), Path::new("d.json"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("d.json: key const_shift: "), "{e}");
     }
 
     #[test]

@@ -267,16 +267,17 @@ impl Device<'_> {
         }
     }
 
-    /// The factory zero-plane numbers (`freenect_copy_registration`), when the library has them.
-    pub fn zero_plane(&self) -> Option<sys::ZeroPlaneInfo> {
+    /// The factory zero-plane numbers and `const_shift` (`freenect_copy_registration`), when the
+    /// library has them.
+    pub fn zero_plane(&self) -> Option<(sys::ZeroPlaneInfo, f64)> {
         let api = self.api();
         let (copy, destroy) = (api.copy_registration?, api.destroy_registration?);
         // SAFETY: `self.dev` is open; the copy owns three tables that `destroy` frees, once.
         unsafe {
             let mut reg = copy(self.dev);
-            let zp = reg.zero_plane_info;
+            let factory = (reg.zero_plane_info, reg.const_shift);
             destroy(&mut reg);
-            Some(zp)
+            Some(factory)
         }
     }
 

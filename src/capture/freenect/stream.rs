@@ -41,8 +41,8 @@ pub struct Captured<T> {
 /// What the capture thread learnt about the device before streaming.
 #[derive(Clone, Debug)]
 pub struct DeviceInfo {
-    /// Factory zero-plane numbers, when the library provides them.
-    pub zero_plane: Option<sys::ZeroPlaneInfo>,
+    /// Factory zero-plane numbers and `const_shift`, when the library provides them.
+    pub zero_plane: Option<(sys::ZeroPlaneInfo, f64)>,
     /// Camera serials on the bus (empty when the library cannot list them).
     pub serials: Vec<String>,
 }
