@@ -18,20 +18,37 @@ use super::depthless::{dimmed, hue_dist};
 use crate::calib::Calibration;
 use crate::labels::{ALIGNMENT, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
 
-/// The z-buffer holds `depth_mm << 16 | off_centre << 4 | parity << 3 | label`: the nearer surface
-/// wins one integer compare, and the label travels with its depth (one load and one store per
-/// splatted pixel). Sources at exactly the same depth (a hole filled with its neighbour's depth,
-/// say) are neighbours. Of those, the one whose footprint holds the target pixel's centre wins
-/// (`off_centre` 0): a shadow's edge along the rows then falls where the pixel centres say. Where
-/// neither footprint holds it, the parity of `u + v`, which differs between any two neighbours,
-/// decides, so the label code never does (that biased every boundary towards VALID).
+/// The z-buffer holds `astray << 31 | depth_mm << 16 | off_centre << 4 | parity << 3 | label`:
+/// one integer compare picks what a target pixel shows, and the label travels with its depth
+/// (one load and one store per splatted pixel). A source pixel whose footprint misses the
+/// target's centre (`astray`) landed there only by rounding: it loses to every one whose
+/// footprint holds it, whatever their depths. Two IR rows land on one RGB row every ninth row
+/// (the RGB camera's pixels are larger), and where the sensor's widening swallowed an occluder's
+/// edge in one of them, the nearer row's occluder hid the other's shadow where the RGB pixel's
+/// centre sees the shadow (RGB attached F1 +0.005, any-shadow recall +0.007 on every simulated
+/// suite). Otherwise the nearer surface wins. Sources at exactly the same depth (a hole filled
+/// with its neighbour's depth, say) are neighbours: of those, the one whose footprint holds the
+/// centre at all wins (`off_centre` 0), so a shadow's edge along the rows falls where the pixel
+/// centres say; where neither does, the parity of `u + v`, which differs between any two
+/// neighbours, decides, so the label code never does (that biased every boundary towards VALID).
 const LABEL_BITS: u32 = 3;
 /// Bits between label and depth; the lowest two hold the tie-breaks.
 const TIE_BITS: u32 = 13;
+/// The depth field: millimetres, at most [`MAX_DEPTH_MM`].
+const DEPTH_MASK: u32 = 0x7fff;
+/// Farthest depth a key holds (far beyond a Kinect's range; the field has 15 bits).
+const MAX_DEPTH_MM: f32 = 32_000.0;
+/// The `astray` bit: the source pixel's footprint misses the target's centre.
+const ASTRAY_BIT: u32 = 31;
 /// Empty: above every key, and its label bits are OTHER (nothing of the IR view lands there).
 const EMPTY: u32 = !((1 << LABEL_BITS) - 1) | OTHER as u32;
 /// Z-buffer value of an alignment-shadow pixel: behind every real surface.
 const GAP: u32 = (0xfffe << (LABEL_BITS + TIE_BITS)) | ALIGNMENT as u32;
+// Behind every real key, astray ones too.
+const _: () = assert!(
+    GAP > (1 << ASTRAY_BIT) | ((MAX_DEPTH_MM as u32) << (LABEL_BITS + TIE_BITS)) | 0xffff
+        && (MAX_DEPTH_MM as u32) <= DEPTH_MASK
+);
 /// Target index of a source pixel that lands outside the RGB image: a spare z-buffer slot.
 const OUTSIDE: u32 = PIXELS as u32;
 
@@ -58,6 +75,10 @@ pub struct Warp {
     half_px: f32,
     /// The same vertically.
     half_py: f32,
+    /// [`Warp::half_px`] plus half of what one raw unit of depth moves a pixel in the RGB image:
+    /// the sensor's noise moves neighbouring footprints apart by about that much, and a centre
+    /// in such a gap is no reason for a hidden far pixel to win it (the astray bit).
+    astray_px: f32,
     /// Raw-value step above which neighbours are different surfaces (1.5 px of disparity).
     jump_raw: i32,
     /// A fixed-size array, so the splat's index clamp proves every store in bounds.
@@ -113,6 +134,9 @@ impl Warp {
             rgb_c: [calib.rgb.cx as f32, calib.rgb.cy as f32],
             half_px: (0.5 * calib.rgb.fx / d.fx) as f32,
             half_py: (0.5 * calib.rgb.fy / d.fy) as f32,
+            astray_px: (0.5 * calib.rgb.fx / d.fx
+                + 0.5 * calib.rgb.fx * calib.depth_to_rgb.translation.x.abs() / calib.raw.numerator)
+                as f32,
             jump_raw: (1.5 / calib.px_per_raw()).round() as i32,
             zbuf: vec![EMPTY; PIXELS + 1]
                 .into_boxed_slice()
@@ -299,7 +323,7 @@ impl Warp {
         let (cx, cy) = (self.rgb_c[0], self.rgb_c[1]);
         let (w, h) = (WIDTH as f32 - 0.5, HEIGHT as f32 - 0.5);
         let (iz_scale, iz_offset) = (self.iz_scale, self.iz_offset);
-        let half_x = self.half_px;
+        let (half_x, astray_x) = (self.half_px, self.astray_px);
         // What the general loop computes per pixel for y is the row's here.
         let y = fy * by + cy;
         let yr = round_f32(y);
@@ -317,13 +341,15 @@ impl Warp {
             let inside = valid & row_inside & (x > -0.5) & (x < w);
             let xr = round_f32(x);
             let off_centre = ((x - xr).abs() > half_x) | y_off;
+            let astray = ((x - xr).abs() > astray_x) | y_off;
             *t_out = if inside {
                 round_bits(row_start + xr)
             } else {
                 OUTSIDE
             };
-            let z = round_bits(clamp_fast(1000.0 / iz, 1.0, 65000.0));
-            let key = (z << (LABEL_BITS + TIE_BITS))
+            let z = round_bits(clamp_fast(1000.0 / iz, 1.0, MAX_DEPTH_MM));
+            let key = (u32::from(astray) << ASTRAY_BIT)
+                | (z << (LABEL_BITS + TIE_BITS))
                 | (u32::from(off_centre) << (LABEL_BITS + 1))
                 | (parity ^ flip)
                 | u32::from(label);
@@ -344,7 +370,7 @@ impl Warp {
         let (cx, cy) = (self.rgb_c[0], self.rgb_c[1]);
         let (w, h) = (WIDTH as f32 - 0.5, HEIGHT as f32 - 0.5);
         let (iz_scale, iz_offset) = (self.iz_scale, self.iz_offset);
-        let (half_x, half_y) = (self.half_px, self.half_py);
+        let (half_x, half_y, astray_x) = (self.half_px, self.half_py, self.astray_px);
         let out = self.target.iter_mut().zip(self.keys.iter_mut());
         // Bit LABEL_BITS holds the parity of u + v: the columns' parities, flipped on odd rows.
         let flip = ((v & 1) as u32) << LABEL_BITS;
@@ -367,10 +393,13 @@ impl Warp {
             let index = yr * WIDTH as f32 + xr;
             // Of sources at one depth on one target, the one whose footprint holds the target's
             // centre wins (footprints tile, so at most one does); parity breaks what is left.
-            let off_centre = ((x - xr).abs() > half_x) | ((y - yr).abs() > half_y);
+            let y_off = (y - yr).abs() > half_y;
+            let off_centre = ((x - xr).abs() > half_x) | y_off;
+            let astray = ((x - xr).abs() > astray_x) | y_off;
             *t_out = if inside { round_bits(index) } else { OUTSIDE };
-            let z = round_bits(clamp_fast(1000.0 * nz * nz * r, 1.0, 65000.0));
-            let key = (z << (LABEL_BITS + TIE_BITS))
+            let z = round_bits(clamp_fast(1000.0 * nz * nz * r, 1.0, MAX_DEPTH_MM));
+            let key = (u32::from(astray) << ASTRAY_BIT)
+                | (z << (LABEL_BITS + TIE_BITS))
                 | (u32::from(off_centre) << (LABEL_BITS + 1))
                 | (parity ^ flip)
                 | u32::from(label);
@@ -866,7 +895,7 @@ fn column_terms(step: f32) -> Vec<f32> {
 
 /// The depth part of a z-buffer key.
 fn key_depth(key: u32) -> u32 {
-    key >> (LABEL_BITS + TIE_BITS)
+    (key >> (LABEL_BITS + TIE_BITS)) & DEPTH_MASK
 }
 
 /// The RGB8 pixel at index `i` of `colour`, as signed components for [`hue_dist`].
@@ -899,7 +928,7 @@ fn unpack_row(keys: &[u32], rgb: &mut [u8], mm: &mut [u16]) {
         let label = k & ((1 << LABEL_BITS) - 1);
         *l = label as u8;
         let measured = u32::from(label == u32::from(VALID)).wrapping_neg();
-        *m = ((k >> (LABEL_BITS + TIE_BITS)) & measured) as u16;
+        *m = ((k >> (LABEL_BITS + TIE_BITS)) & DEPTH_MASK & measured) as u16;
     }
 }
 
@@ -1080,6 +1109,48 @@ mod tests {
             let start = (0..WIDTH).find(|&x| out.rgb_labels[v * WIDTH + x] == ALIGNMENT);
             assert_eq!(start, Some(300), "RGB row {v}");
         }
+    }
+
+    #[test]
+    fn an_rgb_row_shows_the_ir_row_whose_footprint_holds_its_centre() {
+        // A box at 1 m from IR column 300 on before a wall at 3 m, its attached shadow of
+        // fb·(1 − 1/3) = 29 px left of it; in odd rows the sensor's widening swallowed the box's
+        // first pixel too (a hole of the shadow, as SPEC §1's widening makes). The RGB camera's
+        // rows are taller than the IR camera's: RGB row r's centre lies in the footprint of IR row
+        // v = round((r − cy_rgb)/fy_rgb·fy + cy), and where pixel (300, v) lands, 518.86·((300 −
+        // 313.04)/582.62 − 0.025) + 325.58 = 301.0, the RGB camera sees what that pixel shows:
+        // the shadow in odd rows, the box in even ones. One RGB row in nine gets a second IR row
+        // whose footprint misses its centre; its box once hid the shadow there (near wins).
+        let c = Calibration::nyu_default();
+        let (near, far) = (raw_at(&c, 1.0), raw_at(&c, 3.0));
+        let w = (c.fb() * (1.0 - 1.0 / 3.0)).round() as usize;
+        let mut raw = vec![far; PIXELS];
+        for v in 0..HEIGHT {
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            row[300..500].fill(near);
+            row[300 - w..300 + v % 2].fill(NO_DEPTH);
+        }
+        let mut out = Classified::default();
+        Classifier::new(&c).classify(&raw, &mut out);
+        let (mut wrong, mut shared) = (Vec::new(), 0);
+        for r in 60..420 {
+            let v = ((r as f64 - c.rgb.cy) / c.rgb.fy * c.depth.fy + c.depth.cy).round() as usize;
+            let (x, y) = rgb_xy(&c, 300.0, v as f64, near);
+            assert_eq!((y.round() as usize, x.round() as usize), (r, 301));
+            let want = if v % 2 == 1 { ATTACHED } else { VALID };
+            let other = [v - 1, v + 1]
+                .into_iter()
+                .any(|o| rgb_xy(&c, 300.0, o as f64, near).1.round() as usize == r);
+            shared += usize::from(other);
+            if out.rgb_labels[r * WIDTH + 301] != want {
+                wrong.push((r, v, other));
+            }
+        }
+        assert!(shared >= 30, "{shared} RGB rows with two IR rows");
+        assert!(
+            wrong.is_empty(),
+            "(RGB row, IR row, two IR rows): {wrong:?}"
+        );
     }
 
     #[test]
