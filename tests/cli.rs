@@ -571,3 +571,82 @@ fn synth_refuses_out_of_range_sensor_switches() {
         assert!(err.contains(flag), "{flag} {value}: {err}");
     }
 }
+
+/// `--export-labels` never overwrites what it did not write: a folder holding anything but label
+/// PNGs (a ground-truth folder has meta.toml) is refused with one line and left as it was; an
+/// earlier export is replaced, with a warning; a failed run leaves no empty folder behind.
+#[test]
+fn export_labels_keeps_what_it_did_not_write() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (rec, gt) = synth_box(tmp.path(), "box", &[]);
+    let rec = rec.display().to_string();
+    let before: Vec<(std::ffi::OsString, Vec<u8>)> = {
+        let mut v: Vec<_> = std::fs::read_dir(&gt)
+            .unwrap()
+            .map(|e| {
+                let e = e.unwrap();
+                (e.file_name(), std::fs::read(e.path()).unwrap())
+            })
+            .collect();
+        v.sort();
+        v
+    };
+    let err = umbra_fails(&["replay", &rec, "--export-labels", &gt.display().to_string()]);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("meta.toml") && err.contains(&*gt.display().to_string()),
+        "{err}"
+    );
+    let mut after: Vec<_> = std::fs::read_dir(&gt)
+        .unwrap()
+        .map(|e| {
+            let e = e.unwrap();
+            (e.file_name(), std::fs::read(e.path()).unwrap())
+        })
+        .collect();
+    after.sort();
+    assert!(before == after, "the ground-truth folder changed");
+
+    let labels = tmp.path().join("labels");
+    export_labels(&rec, &labels);
+    let again = export_labels(&rec, &labels);
+    let warning = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        warning.contains("replacing the label PNGs of an earlier export"),
+        "{warning}"
+    );
+    assert!(label_path(&labels, 0, "depth").exists());
+
+    let bad = tmp.path().join("bad");
+    std::fs::create_dir(&bad).unwrap();
+    std::fs::write(bad.join("INDEX.txt"), "d-1.0-1.pgm\n").unwrap();
+    std::fs::write(bad.join("d-1.0-1.pgm"), b"P5 640 480 65535\n").unwrap();
+    let never = tmp.path().join("never");
+    umbra_fails(&[
+        "replay",
+        &bad.display().to_string(),
+        "--export-labels",
+        &never.display().to_string(),
+    ]);
+    assert!(
+        !never.exists(),
+        "a failed replay left {} behind",
+        never.display()
+    );
+}
+
+/// `render` writes a PNG: another extension is refused before any work, and a folder that does
+/// not exist yet is made.
+#[test]
+fn render_writes_png_files_only_and_makes_their_folder() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (rec, _) = synth_box(tmp.path(), "box", &[]);
+    let rec = rec.display().to_string();
+    let jpg = tmp.path().join("x.jpg");
+    let err = umbra_fails(&["render", &rec, "--out", &jpg.display().to_string()]);
+    assert!(err.contains(".png"), "{err}");
+    assert!(!jpg.exists());
+    let png = tmp.path().join("new").join("deeper").join("x.png");
+    umbra(&["render", &rec, "--out", &png.display().to_string()]);
+    assert!(image::open(&png).is_ok());
+}

@@ -13,7 +13,7 @@ use crate::labels::PIXELS;
 use crate::recording::Recording;
 use crate::segment::files::{mask_path, read_mask_png};
 use crate::segment::{Params as SegParams, SeedMode, Segmenter, BG, FG};
-use crate::sink::labels::{read_label_png, write_label_png};
+use crate::sink::labels::{read_ir_label_png, read_label_png, write_label_png};
 
 /// Arguments of `umbra eval`.
 #[derive(clap::Args, Debug)]
@@ -220,11 +220,21 @@ fn plan(a: &Args) -> Result<Vec<Job>> {
             )));
         }
     }
+    if !a.gt.is_dir() {
+        return Err(Error::input(
+            &a.gt,
+            "",
+            "no such folder: --gt names the folder of ground-truth label PNGs (SPEC §4)",
+        ));
+    }
     if a.recording.join("INDEX.txt").is_file() {
-        let name = a.recording.file_name().map_or_else(
-            || a.recording.display().to_string(),
-            |n| n.to_string_lossy().into_owned(),
-        );
+        // `eval .` is named after the folder it is, not ".".
+        let name = a
+            .recording
+            .canonicalize()
+            .ok()
+            .and_then(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+            .unwrap_or_else(|| a.recording.display().to_string());
         let rec = Recording::open(&a.recording)?;
         return Ok(vec![Job {
             name,
@@ -303,7 +313,7 @@ fn score(
         }
         // Read ground truth first: a bad file fails before any work on the frame.
         if has_ir {
-            read_label_png(&gt_path(&job.gt, i, "depth"), &mut gt_ir)?;
+            read_ir_label_png(&gt_path(&job.gt, i, "depth"), &mut gt_ir)?;
         }
         if has_rgb_gt {
             read_label_png(&gt_path(&job.gt, i, "rgb"), &mut gt_rgb)?;

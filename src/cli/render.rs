@@ -1,6 +1,6 @@
 //! `umbra render`: draws one classified frame as a PNG (see [`crate::render`]).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use image::ImageEncoder;
 
@@ -10,7 +10,7 @@ use crate::labels::PIXELS;
 use crate::recording::Recording;
 use crate::render::{render_panels, render_with_truth, Truth};
 use crate::sink::labels::write_atomically;
-use crate::sink::labels::{label_path, read_label_png};
+use crate::sink::labels::{label_path, read_ir_label_png, read_label_png};
 
 /// Arguments of `umbra render`.
 #[derive(clap::Args, Debug)]
@@ -35,6 +35,7 @@ pub struct Args {
 /// Runs `umbra render`.
 pub fn run(a: Args) -> Result<()> {
     let params = crate::config::Config::load_or_default(a.config.as_deref())?.params();
+    check_png_name(&a.out)?;
     let rec = Recording::open(&a.recording)?;
     if a.frame >= rec.len() {
         let n = rec.len();
@@ -86,7 +87,28 @@ pub fn run(a: Args) -> Result<()> {
             image::ExtendedColorType::Rgb8,
         )
         .map_err(|e| Error::input(&a.out, "", format!("encoding PNG failed: {e}")))?;
+    // Like --export-labels, a folder that does not exist yet is made.
+    if let Some(parent) = a.out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, "creating folder", e))?;
+    }
     write_atomically(&a.out, &png)
+}
+
+/// The picture is a PNG whatever the name says, so a name that says otherwise (`x.jpg`, no
+/// extension) is refused before any work rather than written with the wrong contents.
+fn check_png_name(out: &Path) -> Result<()> {
+    let is_png = out
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if is_png {
+        Ok(())
+    } else {
+        Err(Error::Usage(format!(
+            "--out {}: umbra render writes a PNG; give the file name a .png extension",
+            out.display()
+        )))
+    }
 }
 
 /// Ground-truth label maps of the IR and the RGB view, where there is a file.
@@ -95,13 +117,24 @@ type TruthMaps = (Option<Vec<u8>>, Option<Vec<u8>>);
 /// The ground-truth label maps of frame `i` in `dir`, per view, where there is a file; at least
 /// one view must have one.
 fn read_truth(dir: &std::path::Path, i: usize) -> Result<TruthMaps> {
+    if !dir.is_dir() {
+        return Err(Error::input(
+            dir,
+            "",
+            "no such folder: --gt names the folder of ground-truth label PNGs (SPEC §4)",
+        ));
+    }
     let read = |view: &str| -> Result<Option<Vec<u8>>> {
         let path = label_path(dir, i, view);
         if !path.is_file() {
             return Ok(None);
         }
         let mut labels = vec![0u8; PIXELS];
-        read_label_png(&path, &mut labels)?;
+        if view == "depth" {
+            read_ir_label_png(&path, &mut labels)?;
+        } else {
+            read_label_png(&path, &mut labels)?;
+        }
         Ok(Some(labels))
     };
     let (ir, rgb) = (read("depth")?, read("rgb")?);

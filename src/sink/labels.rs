@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use image::{ImageDecoder, ImageEncoder};
 
 use crate::error::{Error, Result};
-use crate::labels::{CLASSES, HEIGHT, PIXELS, WIDTH};
+use crate::labels::{ALIGNMENT, CLASSES, HEIGHT, PIXELS, WIDTH};
 
 /// `DIR/<i:06>.<view>.png`, the SPEC §4 name of frame `i`'s labels in `view` ("depth" or "rgb").
 pub fn label_path(dir: &Path, frame: usize, view: &str) -> PathBuf {
@@ -34,6 +34,20 @@ pub fn read_label_png(path: &Path, out: &mut [u8]) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// [`read_label_png`] for the IR view's labels, where there is no alignment shadow (SPEC §1–2):
+/// a file holding one is most likely an RGB-view file under the wrong name.
+pub fn read_ir_label_png(path: &Path, out: &mut [u8]) -> Result<()> {
+    read_label_png(path, out)?;
+    match out.iter().position(|&v| v == ALIGNMENT) {
+        Some(i) => Err(Error::input(
+            path,
+            format!("pixel ({}, {})", i % WIDTH, i / WIDTH),
+            "value 3 (alignment) occurs only in the RGB view (SPEC §2): is this an RGB-view file?",
+        )),
+        None => Ok(()),
+    }
 }
 
 /// Reads a 640×480 8-bit (or 16-bit, values under 256) grey PNG into `out` (640·480 bytes).

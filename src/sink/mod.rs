@@ -30,19 +30,81 @@ pub struct LabelExport {
     dir: PathBuf,
     /// PNG bytes, reused frame after frame.
     buf: Vec<u8>,
+    /// The folder did not exist before: if nothing is written into it (the run failed first),
+    /// it goes again rather than being left behind empty.
+    created: bool,
 }
 
 impl LabelExport {
-    /// Creates `dir` (and parents) if needed.
+    /// Creates `dir` (and parents) if needed. A folder that holds anything but SPEC §4 label
+    /// PNGs (a ground-truth folder has `meta.toml`, say) is refused, since its files would be
+    /// overwritten; the label PNGs of an earlier export are replaced, with a warning.
     pub fn create(dir: &Path) -> Result<Self> {
         if dir.exists() && !dir.is_dir() {
             return Err(Error::input(dir, "", "exists and is not a folder: label export needs a folder to write <i>.depth.png and <i>.rgb.png into"));
+        }
+        let created = !dir.exists();
+        if !created {
+            let earlier = earlier_labels(dir)?;
+            if earlier > 0 {
+                warn!(
+                    folder = %dir.display(),
+                    "replacing the label PNGs of an earlier export ({earlier} files; those past this run's frames stay)"
+                );
+            }
         }
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating folder", e))?;
         Ok(LabelExport {
             dir: dir.to_path_buf(),
             buf: Vec::new(),
+            created,
         })
+    }
+}
+
+/// How many SPEC §4 label PNGs `dir` holds; an error naming the first entry that is something
+/// else.
+fn earlier_labels(dir: &Path) -> Result<usize> {
+    let entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, "reading folder", e))?;
+    let mut labels = 0;
+    for entry in entries {
+        let entry = entry.map_err(|e| Error::io(dir, "reading folder", e))?;
+        let name = entry.file_name();
+        if is_label_png_name(&name.to_string_lossy()) {
+            labels += 1;
+        } else {
+            return Err(Error::input(
+                dir,
+                "",
+                format!(
+                    "holds {}, which is not a label PNG of an earlier export: exporting labels here would overwrite what it holds (a ground-truth folder, say); choose a new or empty folder",
+                    name.to_string_lossy()
+                ),
+            ));
+        }
+    }
+    Ok(labels)
+}
+
+/// `<6 digits>.depth.png` or `<6 digits>.rgb.png` (SPEC §4; more digits past frame 999 999),
+/// or such a file's `.part` left by an export that was killed while writing it.
+fn is_label_png_name(name: &str) -> bool {
+    let name = name.strip_suffix(".part").unwrap_or(name);
+    let Some(stem) = name
+        .strip_suffix(".depth.png")
+        .or_else(|| name.strip_suffix(".rgb.png"))
+    else {
+        return false;
+    };
+    stem.len() >= 6 && stem.bytes().all(|b| b.is_ascii_digit())
+}
+
+impl Drop for LabelExport {
+    fn drop(&mut self) {
+        if self.created {
+            // Fails (and leaves it) unless the folder is empty.
+            let _ = std::fs::remove_dir(&self.dir);
+        }
     }
 }
 
