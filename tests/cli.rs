@@ -650,3 +650,64 @@ fn render_writes_png_files_only_and_makes_their_folder() {
     umbra(&["render", &rec, "--out", &png.display().to_string()]);
     assert!(image::open(&png).is_ok());
 }
+
+/// Printing into a pipe whose reader has gone (`umbra eval … | head -1`) ends quietly, as other
+/// command-line tools do, with no panic message.
+#[test]
+fn a_closed_stdout_pipe_ends_quietly() {
+    let rec = concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/complex-room");
+    let gt = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/recordings/ground-truth/complex-room"
+    );
+    let mut child = Command::new(env!("CARGO_BIN_EXE_umbra"))
+        .args(["eval", rec, "--gt", gt, "--per-recording"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !err.contains("panicked") && !err.contains("Broken pipe"),
+        "{err}"
+    );
+}
+
+/// `--seconds` takes what a `Duration` can hold: `inf` was a panic.
+#[test]
+fn bench_refuses_seconds_it_cannot_wait() {
+    let rec = concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/complex-room");
+    for s in ["inf", "1e30", "nan"] {
+        let err = umbra_fails(&["bench", "classify", rec, "--seconds", s]);
+        assert!(
+            err.contains("--seconds") && !err.contains("panicked"),
+            "{s}: {err}"
+        );
+    }
+}
+
+/// The IR view has no alignment shadows (SPEC §2): an IR-view ground-truth PNG holding code 3
+/// (an RGB-view file under the wrong name, most likely) is an error naming the pixel, not
+/// pixels silently left out of every score.
+#[test]
+fn eval_refuses_alignment_in_ir_view_ground_truth() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (rec, gt) = synth_box(tmp.path(), "box", &[]);
+    let depth = label_path(&gt, 0, "depth");
+    let mut labels = vec![0u8; PIXELS];
+    read_label_png(&depth, &mut labels).unwrap();
+    labels[7 * 640 + 5] = 3;
+    umbra::sink::labels::write_label_png(&depth, &labels).unwrap();
+    let err = umbra_fails(&[
+        "eval",
+        &rec.display().to_string(),
+        "--gt",
+        &gt.display().to_string(),
+    ]);
+    assert!(
+        err.contains("000000.depth.png") && err.contains("pixel (5, 7)"),
+        "{err}"
+    );
+}

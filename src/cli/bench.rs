@@ -51,7 +51,7 @@ pub enum What {
         #[arg(long, default_value = "kinect")]
         source: String,
         /// Stop after this many seconds (a fakenect recording may end earlier).
-        #[arg(long, default_value_t = 60.0)]
+        #[arg(long, default_value_t = 60.0, value_parser = super::seconds_arg)]
         seconds: f64,
     },
     /// Time the classifier on a recording's frames held in memory, next to a plain frame copy.
@@ -63,7 +63,7 @@ pub enum What {
         #[arg(long, default_value_t = 30)]
         frames: usize,
         /// Keep timing this long (at least one pass over the frames).
-        #[arg(long, default_value_t = 3.0)]
+        #[arg(long, default_value_t = 3.0, value_parser = super::seconds_arg)]
         seconds: f64,
         /// Classify from depth alone, without the paired RGB images.
         #[arg(long)]

@@ -55,11 +55,42 @@ pub enum Command {
 /// terminal, so logs and CI output stay clean).
 pub fn progress_bar(len: u64, unit: &str) -> indicatif::ProgressBar {
     let style = indicatif::ProgressStyle::with_template(&format!(
-        "{{prefix}} [{{bar:30}}] {{pos}}/{{len}} {unit} {{per_sec}} eta {{eta}}"
+        "{{prefix}} [{{bar:30}}] {{pos}}/{{len}} {unit} {{rate}} eta {{eta}}"
     ))
     .expect("static template")
+    // indicatif's own `per_sec` prints four decimals ("159.8339/s").
+    .with_key(
+        "rate",
+        |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+            let _ = std::fmt::Write::write_fmt(w, format_args!("{:.1}/s", s.per_sec()));
+        },
+    )
     .progress_chars("=> ");
     indicatif::ProgressBar::new(len).with_style(style)
+}
+
+/// `n` and `noun`, with an `s` unless `n` is 1 ("1 frame", "3 frames").
+pub fn count(n: impl Into<u64>, noun: &str) -> String {
+    let n = n.into();
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
+}
+
+/// Longest `--seconds` accepted (a year): `Duration` cannot hold every finite float.
+const MAX_SECONDS: f64 = 365.0 * 24.0 * 3600.0;
+
+/// Parses a `--seconds` value: a finite number of seconds from 0 up to a year.
+pub fn seconds_arg(s: &str) -> std::result::Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number of seconds"))?;
+    if (0.0..=MAX_SECONDS).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{s} s: expected a number of seconds from 0 to {MAX_SECONDS} (a year)"
+        ))
+    }
 }
 
 /// Runs the parsed command.

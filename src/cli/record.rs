@@ -26,7 +26,7 @@ pub struct Args {
     #[arg(long, value_name = "SRC", default_value = "kinect")]
     pub source: SourceSpec,
     /// Stop after this many seconds.
-    #[arg(long, value_name = "S", conflicts_with = "frames")]
+    #[arg(long, value_name = "S", conflicts_with = "frames", value_parser = super::seconds_arg)]
     pub seconds: Option<f64>,
     /// Stop after this many depth frames.
     #[arg(long, value_name = "N")]
@@ -43,12 +43,8 @@ pub fn run(a: Args) -> Result<()> {
             "umbra record records a Kinect: --source kinect, kinect:INDEX or kinect:SERIAL".into(),
         ));
     };
-    if let Some(s) = a.seconds {
-        if !(s.is_finite() && s > 0.0) {
-            return Err(Error::Usage(format!(
-                "--seconds {s}: expected a positive number"
-            )));
-        }
+    if a.seconds == Some(0.0) {
+        return Err(Error::Usage("--seconds 0: expected more than 0".into()));
     }
     if a.frames == Some(0) {
         return Err(Error::Usage("--frames 0: expected at least 1".into()));

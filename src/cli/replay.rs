@@ -98,8 +98,8 @@ pub fn run(a: Args) -> crate::Result<()> {
 /// The end-of-run summary: frames, per-class pixel shares per view, speed.
 pub fn summary(s: &Stats) -> String {
     let mut out = format!(
-        "{} frames in {:.2} s: {:.1} frames/s overall, classification {:.2} ms/frame\n",
-        s.frames,
+        "{} in {:.2} s: {:.1} frames/s overall, classification {:.2} ms/frame\n",
+        super::count(s.frames, "frame"),
         s.elapsed.as_secs_f64(),
         s.fps(),
         1e3 * s.classify_time.as_secs_f64() / (s.frames.max(1) as f64)

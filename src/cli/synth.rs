@@ -131,7 +131,11 @@ pub fn run(a: Args) -> Result<()> {
                 job,
             ));
         }
-        describe_target = format!("{} recordings to {}", a.count, dir.display());
+        describe_target = format!(
+            "{} to {}",
+            super::count(a.count as u64, "recording"),
+            dir.display()
+        );
     } else {
         let (Some(out), Some(gt)) = (&a.out, &a.gt) else {
             return Err(Error::Usage(
@@ -193,7 +197,8 @@ pub fn run(a: Args) -> Result<()> {
         .map(|(n, c)| format!("{n} {:.1}%", 100.0 * c as f64 / all as f64))
         .collect();
     println!(
-        "synth: wrote {describe_target}, {total_frames} frames in {:.1} s; labels (both views): {}",
+        "synth: wrote {describe_target}, {} in {:.1} s; labels (both views): {}",
+        super::count(total_frames, "frame"),
         started.elapsed().as_secs_f64(),
         shares.join(", ")
     );

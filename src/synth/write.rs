@@ -144,7 +144,18 @@ fn meta_toml(job: &Job) -> String {
     t.insert("rgb_noise_sigma".into(), s.rgb_noise_sigma.into());
     t.insert("rgb_gain".into(), s.rgb_gain.into());
     t.insert("rgb_soft".into(), s.rgb_soft.into());
-    t.insert("objects".into(), (job.scene.objects.len() as i64).into());
+    // The objects the description lists; walls, floor and posters are surfaces of the room.
+    let objects = job
+        .scene
+        .objects
+        .iter()
+        .filter(|o| o.is_foreground())
+        .count();
+    t.insert("objects".into(), (objects as i64).into());
+    t.insert(
+        "surfaces".into(),
+        ((job.scene.objects.len() - objects) as i64).into(),
+    );
     toml::to_string(&t).expect("a flat table always serialises")
 }
 
