@@ -126,6 +126,8 @@ impl Calibration {
 
     /// Parses and validates calibration TOML; `path` is only used in error messages.
     pub fn from_toml_str(text: &str, path: &Path) -> Result<Self> {
+        let table: toml::Table = toml::from_str(text).map_err(|e| toml_error(path, text, &e))?;
+        check_required_keys(&table, path)?;
         let parsed: CalibrationToml =
             toml::from_str(text).map_err(|e| toml_error(path, text, &e))?;
         let r = parsed.depth_to_rgb.rotation;
@@ -297,6 +299,39 @@ impl Calibration {
     }
 }
 
+/// The tables of SPEC §3's `calibration.toml` and the keys each must have, in file order.
+const REQUIRED_KEYS: [(&str, &[&str]); 4] = [
+    ("depth", &["fx", "fy", "cx", "cy", "width", "height"]),
+    ("rgb", &["fx", "fy", "cx", "cy", "width", "height"]),
+    ("depth_to_rgb", &["rotation", "translation"]),
+    ("raw", &["numerator", "denominator", "baseline_m"]),
+];
+
+/// Reports the first missing table or key by name: serde's "missing field" carries no table and
+/// points at the top of the file, which says neither where nor what to add.
+fn check_required_keys(doc: &toml::Table, path: &Path) -> Result<()> {
+    for (name, keys) in REQUIRED_KEYS {
+        let place = format!("[{name}]");
+        match doc.get(name) {
+            None => {
+                return Err(Error::input(
+                    path,
+                    place,
+                    format!("missing table; expected one with {}", keys.join(", ")),
+                ))
+            }
+            Some(toml::Value::Table(t)) => {
+                if let Some(key) = keys.iter().find(|k| !t.contains_key(**k)) {
+                    return Err(Error::input(path, place, format!("missing key {key}")));
+                }
+            }
+            // A table of the wrong type is left to the typed parse, which knows its line.
+            Some(_) => {}
+        }
+    }
+    Ok(())
+}
+
 /// Turns a TOML parse error into `line L, column C` plus its message.
 pub(crate) fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> Error {
     let place = match e.span() {
@@ -354,6 +389,63 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("raw.baseline_m"), "{e}");
+    }
+
+    #[test]
+    fn missing_keys_and_tables_are_named_with_their_table() {
+        let full = Calibration::nyu_default().to_toml_string();
+        let without = |table: &str, key: &str| {
+            let start = full.find(&format!("[{table}]")).unwrap();
+            let at = start + full[start..].find(&format!("\n{key} =")).unwrap() + 1;
+            let end = at + full[at..].find('\n').unwrap() + 1;
+            format!("{}{}", &full[..at], &full[end..])
+        };
+        let err = |text: &str| {
+            Calibration::from_toml_str(text, Path::new("calibration.toml"))
+                .unwrap_err()
+                .to_string()
+        };
+        assert_eq!(
+            err(&without("depth", "fy")),
+            "calibration.toml: [depth]: missing key fy"
+        );
+        assert_eq!(
+            err(&without("rgb", "fy")),
+            "calibration.toml: [rgb]: missing key fy"
+        );
+        assert_eq!(
+            err(&without("raw", "baseline_m")),
+            "calibration.toml: [raw]: missing key baseline_m"
+        );
+        let no_raw = &full[..full.find("[raw]").unwrap()];
+        assert_eq!(
+            err(no_raw),
+            "calibration.toml: [raw]: missing table; expected one with numerator, denominator, baseline_m"
+        );
+    }
+
+    #[test]
+    fn required_keys_are_the_serialised_ones() {
+        // REQUIRED_KEYS must follow the structs, or a key they lack would pass the check.
+        let doc: toml::Table =
+            toml::from_str(&Calibration::nyu_default().to_toml_string()).unwrap();
+        let want: Vec<(String, Vec<String>)> = REQUIRED_KEYS
+            .iter()
+            .map(|(t, keys)| (t.to_string(), keys.iter().map(|k| k.to_string()).collect()))
+            .collect();
+        let got: Vec<(String, Vec<String>)> = doc
+            .iter()
+            .map(|(t, v)| {
+                let keys = v.as_table().unwrap().keys().cloned().collect();
+                (t.clone(), keys)
+            })
+            .collect();
+        let sorted = |mut v: Vec<(String, Vec<String>)>| {
+            v.iter_mut().for_each(|(_, k)| k.sort());
+            v.sort();
+            v
+        };
+        assert_eq!(sorted(got), sorted(want));
     }
 
     #[test]

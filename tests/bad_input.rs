@@ -102,6 +102,16 @@ impl Case {
     fn replay(&self) -> (bool, String) {
         umbra(&["replay", &s(&self.rec())])
     }
+
+    /// Replays a recording that must load despite its flaw: both frames are classified, and the
+    /// returned stderr holds only the warnings.
+    fn replay_ok(&self) -> String {
+        let (ok, out, err) = common::run(&["replay", &s(&self.rec())]);
+        assert!(ok, "replay failed: {err}");
+        assert!(out.starts_with("2 frames in "), "{out}");
+        assert!(!err.contains("error"), "{err}");
+        err
+    }
 }
 
 fn copy_dir(from: &Path, to: &Path) {
@@ -242,6 +252,58 @@ fn index_not_utf8_names_the_byte() {
     one_line_error(c.replay(), &[&s(&index), &format!("byte {at}"), "UTF-8"]);
 }
 
+#[test]
+fn index_with_a_byte_order_mark_is_read() {
+    // Windows editors start a saved INDEX.txt with a UTF-8 BOM.
+    let c = Case::new();
+    let index = c.rec().join("INDEX.txt");
+    std::fs::write(&index, [b"\xef\xbb\xbf".as_slice(), &read(&index)].concat()).unwrap();
+    assert_eq!(c.replay_ok(), "");
+}
+
+#[test]
+fn index_comment_line_is_named_as_such() {
+    let c = Case::new();
+    let index = c.rec().join("INDEX.txt");
+    let text = std::fs::read_to_string(&index).unwrap();
+    std::fs::write(&index, format!("# recorded by hand\n{text}")).unwrap();
+    one_line_error(
+        c.replay(),
+        &[
+            &s(&index),
+            ": line 1: '# recorded by hand': ",
+            "comment lines are not part of fakenect's INDEX.txt format",
+        ],
+    );
+}
+
+#[test]
+fn index_naming_missing_accelerometer_files_warns_once() {
+    // umbra never reads a-*.dump: a lost one is no reason to refuse the recording.
+    let c = Case::new();
+    let index = c.rec().join("INDEX.txt");
+    let text = std::fs::read_to_string(&index).unwrap();
+    let line = text.lines().count() + 1;
+    std::fs::write(
+        &index,
+        format!("{text}a-1700000000.040000-3.dump\na-1700000000.050000-4.dump\n"),
+    )
+    .unwrap();
+    let err = c.replay_ok();
+    assert_eq!(
+        err.lines().count(),
+        1,
+        "one warning for the recording: {err}"
+    );
+    for needle in [
+        "WARN",
+        &format!("{}: line {line}: ", s(&index)),
+        "2 missing accelerometer files, the first a-1700000000.040000-3.dump",
+    ] {
+        assert!(err.contains(needle), "{needle:?} missing from: {err}");
+    }
+}
+
 // ---------------------------------------------------------------- 2. depth PGM
 
 #[test]
@@ -332,6 +394,24 @@ fn depth_trailing_bytes() {
     );
 }
 
+#[test]
+fn depth_header_with_windows_line_ending() {
+    let c = Case::new();
+    let d = c.depth(0);
+    let bytes = read(&d);
+    let body = &bytes[DEPTH_HEADER.len()..];
+    std::fs::write(&d, [b"P5 640 480 65535\r\n".as_slice(), body].concat()).unwrap();
+    one_line_error(
+        c.replay(),
+        &[
+            &s(&d),
+            "byte 16",
+            "header ends in \\r\\n (Windows line ending)",
+            "fakenect writes a single \\n",
+        ],
+    );
+}
+
 // ---------------------------------------------------------------- 3. RGB PPM
 
 #[test]
@@ -377,6 +457,27 @@ fn calibration_unknown_key() {
             &s(&c.calibration()),
             &format!("line {line}, column "),
             "focal_length",
+        ],
+    );
+}
+
+#[test]
+fn calibration_missing_key_names_its_table() {
+    let c = Case::new();
+    c.edit_calibration("fy = 519.47\n", ""); // [rgb]'s; [depth] keeps its own
+    one_line_error(
+        c.replay(),
+        &[&format!("{}: [rgb]: missing key fy", s(&c.calibration()))],
+    );
+    let c = Case::new();
+    let text = std::fs::read_to_string(c.calibration()).unwrap();
+    let raw = text.find("[raw]").expect("fixture changed: no [raw] table");
+    std::fs::write(c.calibration(), &text[..raw]).unwrap();
+    one_line_error(
+        c.replay(),
+        &[
+            &format!("{}: [raw]: missing table", s(&c.calibration())),
+            "numerator, denominator, baseline_m",
         ],
     );
 }
@@ -435,6 +536,48 @@ fn device_json_used_only_without_calibration_toml() {
     std::fs::write(c.rec().join("device.json"), DEVICE_JSON_OK).unwrap();
     let (ok, e) = c.replay();
     assert!(ok, "a valid device.json must load: {e}");
+}
+
+#[test]
+fn device_json_without_registration_data_means_defaults() {
+    // libfreenect's record of a device with no registration data: every zero-plane value 0.
+    let c = Case::new();
+    std::fs::remove_file(c.calibration()).unwrap();
+    let dj = c.rec().join("device.json");
+    std::fs::write(
+        &dj,
+        r#"{"reg_info":{"zero_plane_info":{"dcmos_emitter_distance":0,"dcmos_rcmos_distance":0,"reference_distance":0,"reference_pixel_size":0}},"const_shift":0}"#,
+    )
+    .unwrap();
+    let err = c.replay_ok();
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("WARN")
+            && err.contains(&s(&dj))
+            && err.contains("no registration data")
+            && err.contains("NYU Kinect v1 default calibration"),
+        "{err}"
+    );
+}
+
+#[test]
+fn device_json_zero_reference_distance_reads_as_a_range() {
+    let c = Case::new();
+    std::fs::remove_file(c.calibration()).unwrap();
+    let dj = c.rec().join("device.json");
+    std::fs::write(
+        &dj,
+        DEVICE_JSON_OK.replace("\"reference_distance\":120", "\"reference_distance\":0"),
+    )
+    .unwrap();
+    one_line_error(
+        c.replay(),
+        &[
+            &s(&dj),
+            "key reg_info.zero_plane_info.reference_distance",
+            "value 0 must be greater than 0 and less than 10000 mm",
+        ],
+    );
 }
 
 #[test]

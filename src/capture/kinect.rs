@@ -65,7 +65,15 @@ impl KinectSource {
             let path = std::env::var_os("FAKENECT_PATH").ok_or_else(|| {
                 Error::Usage(format!("{} is libfreenect's fakenect replay library and FAKENECT_PATH is not set: set it to a recording folder", lib.name))
             })?;
-            Some(Recording::open(Path::new(&path))?)
+            let rec = Recording::open(Path::new(&path))?;
+            if let Some((line, name)) = rec.missing_accelerometer_file() {
+                return Err(Error::input(
+                    rec.dir().join("INDEX.txt"),
+                    format!("line {line}"),
+                    format!("names {name} which does not exist: fakenect stops the process on a missing file (umbra replay ignores it)"),
+                ));
+            }
+            Some(rec)
         } else {
             None
         };

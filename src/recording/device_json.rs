@@ -40,14 +40,31 @@ pub struct ZeroPlane {
     pub reference_pixel_size: f64,
 }
 
-/// Reads `device.json` and derives a calibration from it (NYU defaults for what it lacks).
-pub fn load(path: &Path) -> Result<Calibration> {
+impl ZeroPlane {
+    /// True for the all-zero block libfreenect reports (and `fakenect-record` writes) for a
+    /// device without registration data; libfreenect itself takes `reference_distance == 0` as
+    /// "no registration info".
+    pub fn is_unset(&self) -> bool {
+        [
+            self.dcmos_emitter_distance,
+            self.dcmos_rcmos_distance,
+            self.reference_distance,
+            self.reference_pixel_size,
+        ]
+        .iter()
+        .all(|&v| v == 0.0)
+    }
+}
+
+/// Reads `device.json` and derives a calibration from it (NYU defaults for what it lacks);
+/// `None` when it records that the device had no registration data ([`ZeroPlane::is_unset`]).
+pub fn load(path: &Path) -> Result<Option<Calibration>> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, "reading", e))?;
     from_str(&text, path)
 }
 
-/// Parses device.json text; `path` is used in error messages only.
-pub fn from_str(text: &str, path: &Path) -> Result<Calibration> {
+/// Parses device.json text (see [`load`]); `path` is used in error messages only.
+pub fn from_str(text: &str, path: &Path) -> Result<Option<Calibration>> {
     let d: DeviceJson = serde_json::from_str(text).map_err(|e| {
         // serde_json's message ends in " at line L column C": the place is already in front.
         let msg = e.to_string();
@@ -61,17 +78,29 @@ pub fn from_str(text: &str, path: &Path) -> Result<Calibration> {
             msg,
         )
     })?;
-    from_zero_plane(&d.reg_info.zero_plane_info, d.const_shift, path)
+    let z = &d.reg_info.zero_plane_info;
+    if z.is_unset() {
+        return Ok(None);
+    }
+    from_zero_plane(z, d.const_shift, path).map(Some)
 }
 
 /// Derives a calibration from the zero-plane numbers and, when known, the registration's
 /// `const_shift` (NYU defaults for the rest); `path` names where they came from in error
-/// messages (a file, or a device).
+/// messages (a file, or a device). An all-zero block ([`ZeroPlane::is_unset`]) is an error that
+/// says so.
 pub fn from_zero_plane(
     z: &ZeroPlane,
     const_shift: Option<f64>,
     path: &Path,
 ) -> Result<Calibration> {
+    if z.is_unset() {
+        return Err(Error::input(
+            path,
+            "reg_info.zero_plane_info",
+            "all zero: the device reported no registration data",
+        ));
+    }
     let key = |k: &str| format!("key reg_info.zero_plane_info.{k}");
     // Each value in a range a Kinect v1 can have, so a wrong one is reported under its own key
     // rather than as a derived calibration value the file does not contain.
@@ -82,7 +111,7 @@ pub fn from_zero_plane(
             Err(Error::input(
                 path,
                 key(k),
-                format!("value {v} is not between {lo} and {hi} {unit}"),
+                format!("value {v} must be greater than {lo} and less than {hi} {unit}"),
             ))
         }
     };
@@ -122,7 +151,7 @@ pub fn from_zero_plane(
                 Err(Error::input(
                     path,
                     "key const_shift",
-                    format!("value {s} is not between 0 and 1000 raw units"),
+                    format!("value {s} must be at least 0 and less than 1000 raw units"),
                 ))
             }
         })
@@ -162,7 +191,7 @@ mod tests {
     fn derives_focal_length_and_baseline() {
         let text = r#"{"reg_info":{"ax":1,"zero_plane_info":{"dcmos_emitter_distance":7.5,
             "dcmos_rcmos_distance":2.4,"reference_distance":120,"reference_pixel_size":0.1042}},"const_shift":200}"#;
-        let c = from_str(text, Path::new("device.json")).unwrap();
+        let c = from_str(text, Path::new("device.json")).unwrap().unwrap();
         assert!((c.depth.fx - 575.8).abs() < 0.1, "{}", c.depth.fx);
         assert!((c.raw.baseline_m - 0.075).abs() < 1e-9);
         assert!((c.depth_to_rgb.translation.x + 0.024).abs() < 1e-9);
@@ -190,7 +219,9 @@ mod tests {
             ),
         ];
         for (shift, table) in cases {
-            let c = from_str(&json(shift), Path::new("device.json")).unwrap();
+            let c = from_str(&json(shift), Path::new("device.json"))
+                .unwrap()
+                .unwrap();
             for (raw, mm) in table {
                 let ours = 1000.0 * c.depth_m(raw).unwrap();
                 assert!(
@@ -200,7 +231,9 @@ mod tests {
             }
         }
         // Without const_shift (hand-made files) the NYU model's zero-disparity value stays.
-        let c = from_str(&json(""), Path::new("device.json")).unwrap();
+        let c = from_str(&json(""), Path::new("device.json"))
+            .unwrap()
+            .unwrap();
         assert_eq!(
             c.raw.denominator,
             Calibration::nyu_default().raw.denominator
@@ -219,5 +252,39 @@ mod tests {
         assert!(e.starts_with("d.json: line 1, column"), "{e}");
         let e = from_str(r#"{"reg_info":{"zero_plane_info":{"dcmos_emitter_distance":-1,"dcmos_rcmos_distance":2.4,"reference_distance":120,"reference_pixel_size":0.1}}}"#, Path::new("d.json")).unwrap_err().to_string();
         assert!(e.contains("dcmos_emitter_distance"), "{e}");
+    }
+
+    #[test]
+    fn out_of_range_values_read_as_an_exclusive_range() {
+        let e = from_str(r#"{"reg_info":{"zero_plane_info":{"dcmos_emitter_distance":7.5,"dcmos_rcmos_distance":2.4,"reference_distance":0,"reference_pixel_size":0.1}}}"#, Path::new("d.json")).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "d.json: key reg_info.zero_plane_info.reference_distance: value 0 must be greater than 0 and less than 10000 mm"
+        );
+    }
+
+    /// What `fakenect-record` writes for a device without registration data.
+    const NO_REGISTRATION: &str = r#"{"reg_info":{"ax":0,"zero_plane_info":{"dcmos_emitter_distance":0,
+        "dcmos_rcmos_distance":0,"reference_distance":0,"reference_pixel_size":0}},"const_shift":0}"#;
+
+    #[test]
+    fn all_zero_zero_plane_means_no_registration_data() {
+        assert!(from_str(NO_REGISTRATION, Path::new("device.json"))
+            .unwrap()
+            .is_none());
+        // A live device's all-zero block is reported as what it is, not as a range error.
+        let z = ZeroPlane {
+            dcmos_emitter_distance: 0.0,
+            dcmos_rcmos_distance: 0.0,
+            reference_distance: 0.0,
+            reference_pixel_size: 0.0,
+        };
+        let e = from_zero_plane(&z, Some(0.0), Path::new("kinect"))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "kinect: reg_info.zero_plane_info: all zero: the device reported no registration data"
+        );
     }
 }

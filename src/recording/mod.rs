@@ -68,11 +68,14 @@ pub struct Recording {
     frames: Vec<Frame>,
     calibration: Calibration,
     calibration_source: CalibrationSource,
+    /// The first accelerometer file INDEX.txt names that is absent: its line and name.
+    missing_accel: Option<(usize, String)>,
 }
 
 impl Recording {
-    /// Opens a recording folder: parses INDEX.txt, checks every named file exists, pairs RGB with
-    /// depth and loads the calibration (`calibration.toml`, else `device.json`, else defaults).
+    /// Opens a recording folder: parses INDEX.txt, checks every named depth and RGB file exists
+    /// (missing accelerometer files are only warned about), pairs RGB with depth and loads the
+    /// calibration (`calibration.toml`, else `device.json`, else defaults).
     pub fn open(dir: &Path) -> Result<Self> {
         if !dir.is_dir() {
             return Err(Error::input(
@@ -100,9 +103,15 @@ impl Recording {
             Err(e) => return Err(Error::io(&index_path, "reading", e)),
         };
         let entries = parse_index(&index_path, &text)?;
+        let mut missing_accel: Vec<&Entry> = Vec::new();
         for e in &entries {
             let file = dir.join(&e.name);
             if !file.is_file() {
+                // umbra never reads accelerometer dumps: a lost one costs nothing.
+                if e.stream == Stream::Accel {
+                    missing_accel.push(e);
+                    continue;
+                }
                 let why = if file.exists() {
                     "is not a regular file"
                 } else {
@@ -115,6 +124,8 @@ impl Recording {
                 ));
             }
         }
+        warn_missing_accel(&index_path, &missing_accel);
+        let missing_accel = missing_accel.first().map(|e| (e.line, e.name.clone()));
         let frames = pair_frames(&entries);
         if frames.is_empty() {
             return Err(Error::input(
@@ -129,6 +140,7 @@ impl Recording {
             frames,
             calibration,
             calibration_source,
+            missing_accel,
         })
     }
 
@@ -186,6 +198,12 @@ impl Recording {
         self.calibration_source
     }
 
+    /// The first accelerometer file INDEX.txt names that does not exist (its line and name):
+    /// umbra's reader ignores it, libfreenect's fakenect exits on it.
+    pub fn missing_accelerometer_file(&self) -> Option<(usize, &str)> {
+        self.missing_accel.as_ref().map(|(l, n)| (*l, n.as_str()))
+    }
+
     /// Reads depth frame `i` into `out` (640·480 raw values).
     pub fn read_depth(&self, i: usize, out: &mut [u16]) -> Result<()> {
         self.read_depth_with(i, &mut Vec::new(), out)
@@ -210,21 +228,50 @@ impl Recording {
     }
 }
 
+/// Warns, once for the recording, about accelerometer files INDEX.txt names but that are absent.
+fn warn_missing_accel(index_path: &Path, missing: &[&Entry]) {
+    let Some(first) = missing.first() else {
+        return;
+    };
+    let what = match missing.len() {
+        1 => format!("names {} which is missing", first.name),
+        n => format!(
+            "names {n} missing accelerometer files, the first {}",
+            first.name
+        ),
+    };
+    tracing::warn!(
+        "{}: line {}: {what}; ignored, as umbra does not read accelerometer data",
+        index_path.display(),
+        first.line
+    );
+}
+
+/// What every INDEX.txt line must be, for error messages.
+const INDEX_LINE: &str = "expected d-<unix_time>-<device_ts>.pgm, r-….ppm or a-….dump";
+
 /// Parses INDEX.txt; blank lines are skipped, anything else must be a fakenect frame name.
+/// A leading UTF-8 byte-order mark (Windows editors add one) is ignored.
 pub fn parse_index(path: &Path, text: &str) -> Result<Vec<Entry>> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut out = Vec::new();
     for (i, raw_line) in text.lines().enumerate() {
         let line = raw_line.trim();
         if line.is_empty() {
             continue;
         }
+        if line.starts_with('#') {
+            return Err(Error::input(
+                path,
+                format!("line {}", i + 1),
+                format!("'{line}': comment lines are not part of fakenect's INDEX.txt format; {INDEX_LINE}"),
+            ));
+        }
         let entry = parse_name(line, i + 1).map_err(|why| {
             Error::input(
                 path,
                 format!("line {}", i + 1),
-                format!(
-                    "'{line}' {why}; expected d-<unix_time>-<device_ts>.pgm, r-….ppm or a-….dump"
-                ),
+                format!("'{line}' {why}; {INDEX_LINE}"),
             )
         })?;
         out.push(entry);
@@ -308,10 +355,13 @@ fn load_calibration(dir: &Path) -> Result<(Calibration, CalibrationSource)> {
     }
     let json_path = dir.join("device.json");
     if json_path.exists() {
-        return Ok((
-            device_json::load(&json_path)?,
-            CalibrationSource::DeviceJson,
-        ));
+        match device_json::load(&json_path)? {
+            Some(c) => return Ok((c, CalibrationSource::DeviceJson)),
+            None => tracing::warn!(
+                "{}: reg_info.zero_plane_info is all zero (the device reported no registration data): using the NYU Kinect v1 default calibration",
+                json_path.display()
+            ),
+        }
     }
     Ok((Calibration::nyu_default(), CalibrationSource::Default))
 }
@@ -347,6 +397,105 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("32-bit"), "{err}");
+    }
+
+    #[test]
+    fn a_leading_byte_order_mark_is_ignored() {
+        let e = parse_index(Path::new("I"), "\u{feff}d-1.0-2.pgm\r\nr-1.01-3.ppm\r\n").unwrap();
+        assert_eq!(e.len(), 2);
+        assert_eq!((e[0].name.as_str(), e[0].line), ("d-1.0-2.pgm", 1));
+    }
+
+    #[test]
+    fn comment_lines_are_named_as_such() {
+        let err = parse_index(Path::new("rec/INDEX.txt"), "d-1.0-2.pgm\n# by hand\n")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            err,
+            "rec/INDEX.txt: line 2: '# by hand': comment lines are not part of fakenect's INDEX.txt format; expected d-<unix_time>-<device_ts>.pgm, r-….ppm or a-….dump"
+        );
+    }
+
+    /// A recording of `index` lines in a fresh folder, with every `d-` file written.
+    fn recording(index: &str) -> tempfile::TempDir {
+        let dir = tempfile::tempdir().unwrap();
+        for name in index.lines().filter(|l| l.starts_with("d-")) {
+            pnm::write_depth(&dir.path().join(name), &vec![800; crate::labels::PIXELS]).unwrap();
+        }
+        std::fs::write(dir.path().join("INDEX.txt"), index).unwrap();
+        dir
+    }
+
+    /// Runs `f` and returns what it logged (tracing, plain text).
+    fn logged<T>(f: impl FnOnce() -> T) -> (T, String) {
+        #[derive(Clone, Default)]
+        struct Buf(std::sync::Arc<std::sync::Mutex<Vec<u8>>>);
+        impl std::io::Write for Buf {
+            fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+                self.0.lock().unwrap().extend_from_slice(b);
+                Ok(b.len())
+            }
+            fn flush(&mut self) -> std::io::Result<()> {
+                Ok(())
+            }
+        }
+        let buf = Buf::default();
+        let writer = buf.clone();
+        let subscriber = tracing_subscriber::fmt()
+            .with_writer(move || writer.clone())
+            .with_ansi(false)
+            .finish();
+        let out = tracing::subscriber::with_default(subscriber, f);
+        let text = String::from_utf8(buf.0.lock().unwrap().clone()).unwrap();
+        (out, text)
+    }
+
+    #[test]
+    fn missing_accelerometer_files_are_warned_about_once() {
+        let dir = recording("a-0.9-1.dump\nd-1.0-2.pgm\na-1.1-3.dump\nd-1.2-4.pgm\n");
+        let (rec, log) = logged(|| Recording::open(dir.path()));
+        let rec = rec.unwrap();
+        let mut depth = vec![0u16; crate::labels::PIXELS];
+        for i in 0..rec.len() {
+            rec.read_depth(i, &mut depth).unwrap();
+        }
+        assert_eq!((rec.len(), depth[0]), (2, 800));
+        assert_eq!(log.lines().count(), 1, "{log}");
+        assert!(
+            log.contains("WARN")
+                && log.contains("INDEX.txt: line 1: names 2 missing accelerometer files, the first a-0.9-1.dump; ignored"),
+            "{log}"
+        );
+        // A missing depth file stays an error.
+        std::fs::remove_file(dir.path().join("d-1.2-4.pgm")).unwrap();
+        let err = Recording::open(dir.path()).unwrap_err().to_string();
+        assert!(
+            err.contains("line 4: names d-1.2-4.pgm which does not exist"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn device_json_without_registration_data_means_default_calibration() {
+        let dir = recording("d-1.0-2.pgm\n");
+        std::fs::write(
+            dir.path().join("device.json"),
+            r#"{"reg_info":{"zero_plane_info":{"dcmos_emitter_distance":0,"dcmos_rcmos_distance":0,
+            "reference_distance":0,"reference_pixel_size":0}},"const_shift":0}"#,
+        )
+        .unwrap();
+        let (rec, log) = logged(|| Recording::open(dir.path()));
+        let rec = rec.unwrap();
+        assert_eq!(rec.calibration_source(), CalibrationSource::Default);
+        assert_eq!(*rec.calibration(), Calibration::nyu_default());
+        rec.read_depth(0, &mut vec![0u16; crate::labels::PIXELS])
+            .unwrap();
+        assert!(
+            log.contains("WARN")
+                && log.contains("device.json: reg_info.zero_plane_info is all zero"),
+            "{log}"
+        );
     }
 
     #[test]

@@ -129,16 +129,28 @@ fn check_body(
         ));
     }
     if got > want {
-        return Err(Error::input(
-            path,
-            format!("byte {}", h.data_start + want),
-            format!(
-                "{} unexpected bytes after the {want} sample bytes",
-                got - want
-            ),
-        ));
+        return Err(extra_bytes_error(path, h, bytes, got - want, want));
     }
     Ok(())
+}
+
+/// The error for `extra` bytes past the samples. A header ending in "\r\n" ends at its CR (the
+/// one whitespace byte), so its LF shifts the samples by one: report the line ending, not the byte.
+fn extra_bytes_error(path: &Path, h: &Header, bytes: &[u8], extra: usize, want: usize) -> Error {
+    let cr_at = h.data_start - 1;
+    if extra == 1 && bytes[cr_at] == b'\r' && bytes.get(h.data_start) == Some(&b'\n') {
+        return Error::input(
+            path,
+            format!("byte {cr_at}"),
+            "header ends in \\r\\n (Windows line ending); fakenect writes a single \\n",
+        );
+    }
+    let s = if extra == 1 { "" } else { "s" };
+    Error::input(
+        path,
+        format!("byte {}", h.data_start + want),
+        format!("{extra} unexpected byte{s} after the {want} sample bytes"),
+    )
 }
 
 /// Reads a fakenect depth frame into `out` (640·480 raw values, 2047 = no depth).
@@ -269,5 +281,49 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("magic"), "{e}");
+    }
+
+    #[test]
+    fn names_a_windows_line_ending_in_the_header() {
+        let mut out = vec![0u16; PIXELS];
+        let e = decode_depth(
+            Path::new("d.pgm"),
+            &pgm("P5 640 480 65535\r\n", PIXELS),
+            &mut out,
+        )
+        .unwrap_err()
+        .to_string();
+        assert_eq!(
+            e,
+            "d.pgm: byte 16: header ends in \\r\\n (Windows line ending); fakenect writes a single \\n"
+        );
+        let mut rgb = b"P6 640 480 255\r\n".to_vec();
+        rgb.resize(rgb.len() + PIXELS * 3, 0);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("r.ppm");
+        std::fs::write(&path, rgb).unwrap();
+        let e = read_rgb(&path, &mut vec![0u8; PIXELS * 3])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("byte 14: header ends in \\r\\n"), "{e}");
+    }
+
+    #[test]
+    fn counts_extra_bytes_in_good_grammar() {
+        let mut out = vec![0u16; PIXELS];
+        let mut b = pgm("P5 640 480 65535\n", PIXELS);
+        b.push(0);
+        let e = decode_depth(Path::new("d.pgm"), &b, &mut out)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.ends_with("byte 614417: 1 unexpected byte after the 614400 sample bytes"),
+            "{e}"
+        );
+        b.push(0);
+        let e = decode_depth(Path::new("d.pgm"), &b, &mut out)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("2 unexpected bytes"), "{e}");
     }
 }
