@@ -891,3 +891,32 @@ fn render_onto_a_folder() {
         "temporary files left behind: {leftovers:?}"
     );
 }
+
+/// Depth that does not fit the raw model is no malformed file, but the labels would be quietly
+/// wrong: a zero-disparity value under most of the frame's raw values, or a millimetre stream's
+/// zeros, are warned about (replay still runs).
+#[test]
+fn depth_the_raw_model_cannot_read_is_warned_about() {
+    let c = Case::new();
+    c.edit_calibration("denominator = 1092.5", "denominator = 500.0");
+    let err = c.replay_ok();
+    assert!(err.contains("zero disparity (500)"), "{err}");
+
+    let c = Case::new();
+    for i in 0..2 {
+        let d = c.depth(i);
+        let mut bytes = read(&d);
+        let header = bytes.len() - 2 * 640 * 480;
+        // Half the frame at 0, as a millimetre stream's holes are.
+        for px in bytes[header..].chunks_exact_mut(2).step_by(2) {
+            px.copy_from_slice(&0u16.to_le_bytes());
+        }
+        std::fs::write(&d, bytes).unwrap();
+    }
+    let err = c.replay_ok();
+    assert!(err.contains("millimetre"), "{err}");
+
+    let c = Case::new();
+    let err = c.replay_ok();
+    assert!(!err.contains("WARN"), "a plain recording: {err}");
+}

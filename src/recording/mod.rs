@@ -188,6 +188,43 @@ impl Recording {
         }
     }
 
+    /// Warns (tracing) when the first depth frame does not look like what the raw model of
+    /// [`Recording::calibration`] describes: raw 0 (a Kinect v1's 11-bit stream never sends it,
+    /// a millimetre stream's "no depth" is 0) or values past the model's zero disparity (which
+    /// it maps to no depth). Either way the labels would be quietly wrong. Returns the warnings.
+    pub fn warn_implausible_depth(&self) -> Vec<String> {
+        let mut raw = vec![0u16; crate::labels::PIXELS];
+        if self.read_depth(0, &mut raw).is_err() {
+            return Vec::new(); // The frame's own error comes when it is classified.
+        }
+        let den = self.calibration.raw.denominator;
+        let zero = raw.iter().filter(|&&r| r == 0).count();
+        let beyond = raw
+            .iter()
+            .filter(|&&r| r != crate::labels::NO_DEPTH && f64::from(r) >= den - 0.5)
+            .count();
+        let share = |n: usize| 100.0 * n as f64 / raw.len() as f64;
+        let mut warnings = Vec::new();
+        if share(zero) > 1.0 {
+            warnings.push(format!(
+                "{}: {:.0}% of the first depth frame's pixels are 0, which a Kinect v1's 11-bit stream never sends: is this a millimetre (FREENECT_DEPTH_MM or registered) recording? umbra needs FREENECT_DEPTH_11BIT",
+                self.dir.display(),
+                share(zero)
+            ));
+        }
+        if share(beyond) > 5.0 {
+            warnings.push(format!(
+                "{}: {:.0}% of the first depth frame's pixels are at or past the raw model's zero disparity ({den}), which it reads as no depth: check [raw] in the calibration",
+                self.dir.display(),
+                share(beyond)
+            ));
+        }
+        for w in &warnings {
+            tracing::warn!("{w}");
+        }
+        warnings
+    }
+
     /// The calibration to classify with.
     pub fn calibration(&self) -> &Calibration {
         &self.calibration
