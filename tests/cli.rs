@@ -711,3 +711,43 @@ fn eval_refuses_alignment_in_ir_view_ground_truth() {
         "{err}"
     );
 }
+
+/// `synth --shadow-widening L,R` simulates a sensor whose correlation window widens shadows
+/// more: the box scene's attached shadow (29.1 px by eq. (3)) comes out wider on average than
+/// with the default 3,2 by about what the larger bounds add, and meta.toml says so; bad values
+/// are refused.
+#[test]
+fn synth_shadow_widening_widens_shadows() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mean_width = |extra: &[&str], name: &str| {
+        let (rec, gt) = synth_box(tmp.path(), name, extra);
+        let _ = rec;
+        let mut labels = vec![0u8; PIXELS];
+        read_label_png(&label_path(&gt, 0, "depth"), &mut labels).unwrap();
+        let widths: Vec<f64> = labels
+            .chunks(640)
+            .map(|r| r.iter().filter(|&&l| l == ATTACHED).count() as f64)
+            .filter(|&n| n > 0.0)
+            .collect();
+        let meta = std::fs::read_to_string(gt.join("meta.toml")).unwrap();
+        (widths.iter().sum::<f64>() / widths.len() as f64, meta)
+    };
+    // --ideal leaves every artefact out but the widening asked for.
+    let (plain, _) = mean_width(&["--shadow-widening", "0,0"], "none");
+    let (kinect, _) = mean_width(&["--shadow-widening", "3,2"], "kinect");
+    let (wide, meta) = mean_width(&["--shadow-widening", "6,6"], "wide");
+    assert!((plain - 29.1).abs() < 0.6, "no widening: {plain}");
+    assert!(
+        (1.5..3.0).contains(&(kinect - plain)),
+        "3,2: +{}",
+        kinect - plain
+    );
+    assert!(
+        (4.0..6.5).contains(&(wide - plain)),
+        "6,6: +{}",
+        wide - plain
+    );
+    assert!(meta.contains("shadow_widening_max_px = [6, 6]"), "{meta}");
+    let err = umbra_fails(&["synth", "--scene", "box", "--shadow-widening", "13,2"]);
+    assert!(err.contains("--shadow-widening"), "{err}");
+}

@@ -141,6 +141,13 @@ fn meta_toml(job: &Job) -> String {
         toml::Value::Array(vec![s.z_min.into(), s.z_max.into()]),
     );
     t.insert("noise_sigma_raw".into(), s.noise_sigma_raw.into());
+    t.insert(
+        "shadow_widening_max_px".into(),
+        toml::Value::Array(vec![
+            i64::from(s.widen_left_max).into(),
+            i64::from(s.widen_right_max).into(),
+        ]),
+    );
     t.insert("rgb_noise_sigma".into(), s.rgb_noise_sigma.into());
     t.insert("rgb_gain".into(), s.rgb_gain.into());
     t.insert("rgb_soft".into(), s.rgb_soft.into());
