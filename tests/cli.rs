@@ -572,6 +572,19 @@ fn synth_refuses_out_of_range_sensor_switches() {
     }
 }
 
+/// Every file of a folder, by name, with its bytes.
+fn files(dir: &Path) -> Vec<(std::ffi::OsString, Vec<u8>)> {
+    let mut v: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| {
+            let e = e.unwrap();
+            (e.file_name(), std::fs::read(e.path()).unwrap())
+        })
+        .collect();
+    v.sort();
+    v
+}
+
 /// `--export-labels` never overwrites what it did not write: a folder holding anything but label
 /// PNGs (a ground-truth folder has meta.toml) is refused with one line and left as it was; an
 /// earlier export is replaced, with a warning; a failed run leaves no empty folder behind.
@@ -580,31 +593,14 @@ fn export_labels_keeps_what_it_did_not_write() {
     let tmp = tempfile::tempdir().unwrap();
     let (rec, gt) = synth_box(tmp.path(), "box", &[]);
     let rec = rec.display().to_string();
-    let before: Vec<(std::ffi::OsString, Vec<u8>)> = {
-        let mut v: Vec<_> = std::fs::read_dir(&gt)
-            .unwrap()
-            .map(|e| {
-                let e = e.unwrap();
-                (e.file_name(), std::fs::read(e.path()).unwrap())
-            })
-            .collect();
-        v.sort();
-        v
-    };
+    let before = files(&gt);
     let err = umbra_fails(&["replay", &rec, "--export-labels", &gt.display().to_string()]);
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     assert!(
         err.contains("meta.toml") && err.contains(&*gt.display().to_string()),
         "{err}"
     );
-    let mut after: Vec<_> = std::fs::read_dir(&gt)
-        .unwrap()
-        .map(|e| {
-            let e = e.unwrap();
-            (e.file_name(), std::fs::read(e.path()).unwrap())
-        })
-        .collect();
-    after.sort();
+    let after = files(&gt);
     assert!(before == after, "the ground-truth folder changed");
 
     let labels = tmp.path().join("labels");
@@ -720,8 +716,7 @@ fn eval_refuses_alignment_in_ir_view_ground_truth() {
 fn synth_shadow_widening_widens_shadows() {
     let tmp = tempfile::tempdir().unwrap();
     let mean_width = |extra: &[&str], name: &str| {
-        let (rec, gt) = synth_box(tmp.path(), name, extra);
-        let _ = rec;
+        let (_, gt) = synth_box(tmp.path(), name, extra);
         let mut labels = vec![0u8; PIXELS];
         read_label_png(&label_path(&gt, 0, "depth"), &mut labels).unwrap();
         let widths: Vec<f64> = labels
