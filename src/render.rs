@@ -9,7 +9,7 @@ use image::{Rgb, RgbImage};
 
 use crate::calib::Calibration;
 use crate::classify::Classified;
-use crate::labels::{self, CLASSES, HEIGHT, NAMES, PIXELS, VALID, WIDTH};
+use crate::labels::{self, CLASSES, HEIGHT, NAMES, OTHER, PIXELS, VALID, WIDTH};
 
 /// Font scale: 8×8 glyphs drawn as 16×16 so they read on a full-HD screen.
 const SCALE: u32 = 2;
@@ -36,7 +36,8 @@ const STRIP: Rgb<u8> = Rgb([24, 24, 24]);
 const INK: Rgb<u8> = Rgb([235, 235, 235]);
 /// Fill of panel 1 when the recording has no RGB.
 const NO_RGB: Rgb<u8> = Rgb([48, 48, 48]);
-/// How strongly a label colour covers the colour image in panel 3.
+/// How strongly OTHER's yellow covers the colour image in panel 3 (the image stays readable
+/// where the IR camera sees nothing).
 const TINT: f32 = 0.7;
 /// Depth range mapped to grey (near = bright): the Kinect v1's useful range.
 const NEAR_M: f64 = 0.5;
@@ -85,11 +86,13 @@ pub fn render_panels(
         // Panel 2: IR-view labels; valid pixels grey by depth.
         let p2 = ir_label_colour(classified.ir_labels.get(i), calib, raw.get(i).copied());
         img.put_pixel(x1 + x, y, Rgb(p2));
-        // Panel 3: RGB-view labels tinted over the colour image (over black without one).
+        // Panel 3: RGB-view labels over the colour image (over black without one): shadows in
+        // the paper's colours, OTHER tinted so that the image shows through its large areas.
         let base = colour_at(i);
         let p3 = match classified.rgb_labels.get(i) {
             Some(&VALID) => base,
-            Some(&l) if (l as usize) < CLASSES => blend(base, labels::COLOURS[l as usize], TINT),
+            Some(&OTHER) if rgb.is_some() => blend(base, labels::COLOURS[OTHER as usize], TINT),
+            Some(&l) if (l as usize) < CLASSES => labels::COLOURS[l as usize],
             _ => [0, 0, 0],
         };
         img.put_pixel(x2 + x, y, Rgb(p3));
@@ -381,9 +384,10 @@ mod tests {
         // Panel 1 is the colour image, panel 3 shows it where the RGB view is valid.
         assert_eq!(at(&img, 0, 30, 100), [100, 100, 100]);
         assert_eq!(at(&img, 2, 5, 5), [100, 100, 100]);
-        // 0.3·100 + 0.7·255 = 208.5 → 209; 0.3·100 = 30.
-        assert_eq!(at(&img, 2, 30, 100), [209, 30, 30]);
-        assert_eq!(at(&img, 2, 32, 100), [30, 209, 30]);
+        // Shadows in the paper's colours (SPEC §2); OTHER 0.3·100 + 0.7·255 = 208.5 → 209.
+        assert_eq!(at(&img, 2, 30, 100), [255, 0, 0]);
+        assert_eq!(at(&img, 2, 31, 100), [0, 0, 255]);
+        assert_eq!(at(&img, 2, 32, 100), [0, 255, 0]);
         assert_eq!(at(&img, 2, 33, 100), [209, 209, 30]);
     }
 
@@ -393,7 +397,9 @@ mod tests {
         let img = render_panels(None, &raw, &Calibration::nyu_default(), &c);
         assert_eq!(at(&img, 0, 0, 0), NO_RGB.0);
         assert_eq!(at(&img, 2, 0, 0), [0, 0, 0]);
-        assert_eq!(at(&img, 2, 31, 100), [0, 0, 179]);
+        assert_eq!(at(&img, 2, 31, 100), [0, 0, 255]);
+        // Without an image to show through, OTHER is the paper's yellow too.
+        assert_eq!(at(&img, 2, 33, 100), [255, 255, 0]);
         // The "no RGB" caption is drawn in the middle of panel 1.
         let (x0, y0) = panel_origin(0);
         let inked = (y0 + 220..y0 + 260)
