@@ -587,7 +587,8 @@ fn files(dir: &Path) -> Vec<(std::ffi::OsString, Vec<u8>)> {
 
 /// `--export-labels` never overwrites what it did not write: a folder holding anything but label
 /// PNGs (a ground-truth folder has meta.toml) is refused with one line and left as it was; an
-/// earlier export is replaced, with a warning; a failed run leaves no empty folder behind.
+/// earlier export is replaced, with a warning, its frames past the new last one removed; a failed
+/// run leaves no empty folder behind.
 #[test]
 fn export_labels_keeps_what_it_did_not_write() {
     let tmp = tempfile::tempdir().unwrap();
@@ -603,15 +604,20 @@ fn export_labels_keeps_what_it_did_not_write() {
     let after = files(&gt);
     assert!(before == after, "the ground-truth folder changed");
 
+    // An earlier export of a longer recording: replaced, and its frames past this one's last
+    // removed, so that the folder holds exactly the files of the recording exported last.
     let labels = tmp.path().join("labels");
-    export_labels(&rec, &labels);
+    let room = concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/complex-room");
+    export_labels(room, &labels);
+    assert!(label_path(&labels, 2, "rgb").exists());
     let again = export_labels(&rec, &labels);
     let warning = String::from_utf8_lossy(&again.stderr);
     assert!(
         warning.contains("replacing the label PNGs of an earlier export"),
         "{warning}"
     );
-    assert!(label_path(&labels, 0, "depth").exists());
+    let names: Vec<_> = files(&labels).into_iter().map(|(n, _)| n).collect();
+    assert_eq!(names, ["000000.depth.png", "000000.rgb.png"]);
 
     let bad = tmp.path().join("bad");
     std::fs::create_dir(&bad).unwrap();
@@ -745,4 +751,18 @@ fn synth_shadow_widening_widens_shadows() {
     assert!(meta.contains("shadow_widening_max_px = [6, 6]"), "{meta}");
     let err = umbra_fails(&["synth", "--scene", "box", "--shadow-widening", "13,2"]);
     assert!(err.contains("--shadow-widening"), "{err}");
+}
+
+/// Ground truth stays outside the recording folder (replaying it must not see the answers):
+/// `--gt` inside OUT_REC, or OUT_REC inside `--gt`, is refused before anything is written.
+#[test]
+fn synth_keeps_ground_truth_outside_the_recording() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rec = tmp.path().join("rec");
+    for (out, gt) in [(rec.clone(), rec.join("gt")), (rec.join("r"), rec.clone())] {
+        let (o, g) = (out.display().to_string(), gt.display().to_string());
+        let err = umbra_fails(&["synth", &o, "--gt", &g, "--scene", "box"]);
+        assert!(err.contains("outside the recording folder"), "{err}");
+        assert!(!rec.exists(), "{} was written", rec.display());
+    }
 }

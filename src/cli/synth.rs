@@ -162,9 +162,20 @@ pub fn run(a: Args) -> Result<()> {
                 "umbra synth needs OUT_REC and --gt GT_DIR, or --suite DIR".into(),
             ));
         };
-        if out == gt {
+        // Ground truth is kept apart from the recording (a recording folder holds what a Kinect
+        // would record, and replaying it must not see the answers).
+        let abs = |p: &PathBuf| std::path::absolute(p).unwrap_or_else(|_| p.clone());
+        let (out_abs, gt_abs) = (abs(out), abs(gt));
+        if out_abs == gt_abs {
             return Err(Error::Usage(format!(
                 "OUT_REC and --gt are the same folder {}",
+                out.display()
+            )));
+        }
+        if gt_abs.starts_with(&out_abs) || out_abs.starts_with(&gt_abs) {
+            return Err(Error::Usage(format!(
+                "--gt {} and OUT_REC {} are one inside the other: keep the ground truth outside the recording folder",
+                gt.display(),
                 out.display()
             )));
         }

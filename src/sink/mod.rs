@@ -33,32 +33,66 @@ pub struct LabelExport {
     /// The folder did not exist before: if nothing is written into it (the run failed first),
     /// it goes again rather than being left behind empty.
     created: bool,
+    /// How many label PNGs an earlier export left in the folder.
+    earlier: usize,
+    /// The highest frame written so far.
+    last: Option<usize>,
 }
 
 impl LabelExport {
     /// Creates `dir` (and parents) if needed. A folder that holds anything but SPEC §4 label
     /// PNGs (a ground-truth folder has `meta.toml`, say) is refused, since its files would be
-    /// overwritten; the label PNGs of an earlier export are replaced, with a warning.
+    /// overwritten; the label PNGs of an earlier export are replaced, with a warning, and those
+    /// past this export's last frame are removed when it finishes, so that the folder holds
+    /// exactly SPEC §4's files for the recording exported last (a run that fails keeps them).
     pub fn create(dir: &Path) -> Result<Self> {
         if dir.exists() && !dir.is_dir() {
             return Err(Error::input(dir, "", "exists and is not a folder: label export needs a folder to write <i>.depth.png and <i>.rgb.png into"));
         }
         let created = !dir.exists();
-        if !created {
-            let earlier = earlier_labels(dir)?;
-            if earlier > 0 {
-                warn!(
-                    folder = %dir.display(),
-                    "replacing the label PNGs of an earlier export ({earlier} files; those past this run's frames stay)"
-                );
-            }
+        let earlier = if created { 0 } else { earlier_labels(dir)? };
+        if earlier > 0 {
+            warn!(
+                folder = %dir.display(),
+                "replacing the label PNGs of an earlier export ({earlier} files)"
+            );
         }
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating folder", e))?;
         Ok(LabelExport {
             dir: dir.to_path_buf(),
             buf: Vec::new(),
             created,
+            earlier,
+            last: None,
         })
+    }
+
+    /// Removes the earlier export's label PNGs numbered past this export's last frame.
+    fn remove_stale(&self) -> Result<()> {
+        let Some(last) = self.last else {
+            return Ok(());
+        };
+        let entries =
+            std::fs::read_dir(&self.dir).map_err(|e| Error::io(&self.dir, "reading folder", e))?;
+        let mut removed = 0;
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let name = name.to_string_lossy();
+            let frame = name
+                .split('.')
+                .next()
+                .filter(|_| is_label_png_name(&name))
+                .and_then(|n| n.parse::<usize>().ok());
+            if frame.is_some_and(|i| i > last) {
+                std::fs::remove_file(entry.path())
+                    .map_err(|e| Error::io(entry.path(), "removing", e))?;
+                removed += 1;
+            }
+        }
+        if removed > 0 {
+            info!(folder = %self.dir.display(), "removed {removed} label PNGs of the earlier export past frame {last}");
+        }
+        Ok(())
     }
 }
 
@@ -120,7 +154,16 @@ impl Sink for LabelExport {
             &labels::label_path(&self.dir, i, "rgb"),
             &frame.labels.rgb_labels,
             &mut self.buf,
-        )
+        )?;
+        self.last = self.last.max(Some(i));
+        Ok(())
+    }
+
+    fn finish(&mut self) -> Result<()> {
+        if self.earlier > 0 {
+            self.remove_stale()?;
+        }
+        Ok(())
     }
 }
 

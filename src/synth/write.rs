@@ -102,10 +102,11 @@ pub fn write_job(
     for i in 0..job.frames {
         let f = job_frame(job, i);
         let t = T0 + i as f64 * FRAME_S;
+        // Device ticks at 60 MHz: 2 000 000 a frame.
         let ts = 100_000u32.wrapping_add((i as u32).wrapping_mul(2_000_000));
         let d = format!("d-{t:.6}-{ts}.pgm");
-        // RGB 2 ms after depth so that pairing by nearest time is unambiguous.
-        let r = format!("r-{:.6}-{}.ppm", t + 0.002, ts.wrapping_add(4_000));
+        // RGB 2 ms after depth (120 000 ticks) so that pairing by nearest time is unambiguous.
+        let r = format!("r-{:.6}-{}.ppm", t + 0.002, ts.wrapping_add(120_000));
         pnm::write_depth(&rec_dir.join(&d), &f.raw)?;
         pnm::write_rgb(&rec_dir.join(&r), &f.rgb)?;
         write_label_png(&label_path(gt_dir, i, "depth"), &f.ir_labels)?;
@@ -201,7 +202,7 @@ mod tests {
         let mut raw = vec![0u16; PIXELS];
         r.read_depth(1, &mut raw).unwrap();
         assert_eq!(raw, job_frame(&job, 1).raw);
-        assert_eq!(r.frames()[1].rgb.as_ref().unwrap().device_ts, 2_104_000);
+        assert_eq!(r.frames()[1].rgb.as_ref().unwrap().device_ts, 2_220_000);
         let png = image::open(gt.join("000001.depth.png"))
             .unwrap()
             .into_luma8();
