@@ -234,6 +234,35 @@ fn fakenect_without_a_recording_is_one_line() {
     );
 }
 
+/// `umbra replay` ignores an accelerometer file INDEX.txt names but that is missing (umbra never
+/// reads one); fakenect exits the process on it, so under fakenect it is refused first, in one
+/// line naming the line and the file.
+#[test]
+fn fakenect_recording_with_a_missing_accelerometer_file_is_one_line() {
+    let Some(fakenect) = fakenect_dir() else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let rec = synth(tmp.path(), "box", 2);
+    let index = rec.join("INDEX.txt");
+    let text = std::fs::read_to_string(&index).unwrap();
+    std::fs::write(&index, format!("{text}a-1700000000.100000-7.dump\n")).unwrap();
+    let line = text.lines().count() + 1;
+    let out = under_fakenect(&fakenect, &rec, &tmp.path().join("out"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let errors: Vec<&str> = stderr.lines().filter(|l| !l.contains(" WARN ")).collect();
+    assert_eq!(errors.len(), 1, "{stderr}");
+    assert!(
+        errors[0].contains(&format!("line {line}"))
+            && errors[0].contains("a-1700000000.100000-7.dump")
+            && errors[0].contains("fakenect"),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn devices_lists_the_fakenect_kinect_with_its_source_name() {
     let Some(fakenect) = fakenect_dir() else {
