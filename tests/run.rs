@@ -399,3 +399,55 @@ fn foreground_masks_in_the_daemon_match_the_ground_truth() {
     }
     assert!(masks >= 1, "no foreground mask written");
 }
+
+/// The daemon numbers frames from 0 at every start; a restart (a service's, say) with the same
+/// `--export-labels` folder keeps the run before's label PNGs and writes after them, never over
+/// them. Nothing else in the folder is accepted, as for `replay`.
+#[test]
+fn a_restarted_daemon_keeps_the_labels_of_the_run_before() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rec = bundled("box-before-wall");
+    let (mcap, labels) = (tmp.path().join("mcap"), tmp.path().join("labels"));
+    let daemon = || {
+        run(&[
+            "run",
+            "--source",
+            &format!("replay:{rec}"),
+            "--fast",
+            "--out",
+            &s(&mcap),
+            "--export-labels",
+            &s(&labels),
+        ])
+    };
+    let (ok, _, stderr) = daemon();
+    assert!(ok, "{stderr}");
+    let first: Vec<(String, Vec<u8>)> = files(&labels)
+        .into_iter()
+        .map(|n| {
+            let bytes = std::fs::read(labels.join(&n)).unwrap();
+            (n, bytes)
+        })
+        .collect();
+    let n = first.len() / 2;
+    assert!(n >= 2, "{first:?}");
+    let (ok, _, stderr) = daemon();
+    assert!(ok, "{stderr}");
+    assert!(stderr.contains(&format!("written as {n:06}")), "{stderr}");
+    assert_eq!(files(&labels).len(), 4 * n);
+    for (name, bytes) in &first {
+        assert!(
+            std::fs::read(labels.join(name)).unwrap() == *bytes,
+            "{name} changed"
+        );
+    }
+    // The second session's frame k is the first's frame k, written as n + k.
+    for k in 0..n {
+        let a = std::fs::read(labels.join(format!("{k:06}.rgb.png"))).unwrap();
+        let b = std::fs::read(labels.join(format!("{:06}.rgb.png", n + k))).unwrap();
+        assert!(a == b, "frame {k}");
+    }
+    std::fs::write(labels.join("notes.txt"), "mine").unwrap();
+    let (ok, _, stderr) = daemon();
+    assert!(!ok && stderr.contains("notes.txt"), "{stderr}");
+}

@@ -268,7 +268,7 @@ pub fn run(a: Args) -> Result<()> {
         vec![Box::new(mcap)]
     };
     if let Some(dir) = &export_labels {
-        let labels = Tolerant::new(LabelExport::create(dir)?, "label PNGs");
+        let labels = Tolerant::new(LabelExport::append(dir)?, "label PNGs");
         let lost = labels.lost_counter();
         extra
             .lost

@@ -35,6 +35,8 @@ pub struct LabelExport {
     created: bool,
     /// How many label PNGs an earlier export left in the folder.
     earlier: usize,
+    /// Added to each frame's number: past an earlier session's frames when appending.
+    offset: usize,
     /// The highest frame written so far.
     last: Option<usize>,
 }
@@ -46,25 +48,50 @@ impl LabelExport {
     /// past this export's last frame are removed when it finishes, so that the folder holds
     /// exactly SPEC §4's files for the recording exported last (a run that fails keeps them).
     pub fn create(dir: &Path) -> Result<Self> {
+        let export = Self::open(dir)?;
+        if export.earlier > 0 {
+            warn!(
+                folder = %dir.display(),
+                "replacing the label PNGs of an earlier export ({} files)",
+                export.earlier
+            );
+        }
+        Ok(export)
+    }
+
+    /// The folder made or checked, what an earlier export left in it counted.
+    fn open(dir: &Path) -> Result<Self> {
         if dir.exists() && !dir.is_dir() {
             return Err(Error::input(dir, "", "exists and is not a folder: label export needs a folder to write <i>.depth.png and <i>.rgb.png into"));
         }
         let created = !dir.exists();
         let earlier = if created { 0 } else { earlier_labels(dir)? };
-        if earlier > 0 {
-            warn!(
-                folder = %dir.display(),
-                "replacing the label PNGs of an earlier export ({earlier} files)"
-            );
-        }
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "creating folder", e))?;
         Ok(LabelExport {
             dir: dir.to_path_buf(),
             buf: Vec::new(),
             created,
             earlier,
+            offset: 0,
             last: None,
         })
+    }
+
+    /// For the daemon, which numbers its frames from 0 at every start: like [`LabelExport::create`],
+    /// but an earlier session's label PNGs are kept and this session's frames numbered after
+    /// them (a service restart must not overwrite the labels of the run before).
+    pub fn append(dir: &Path) -> Result<Self> {
+        let mut export = Self::open(dir)?;
+        if export.earlier > 0 {
+            export.offset = last_label_frame(dir)?.map_or(0, |i| i + 1);
+            export.earlier = 0; // nothing of theirs is replaced or removed
+            warn!(
+                folder = %dir.display(),
+                "keeping an earlier session's label PNGs: this session's frame 0 is written as {:06}",
+                export.offset
+            );
+        }
+        Ok(export)
     }
 
     /// Removes the earlier export's label PNGs numbered past this export's last frame.
@@ -120,6 +147,20 @@ fn earlier_labels(dir: &Path) -> Result<usize> {
     Ok(labels)
 }
 
+/// The highest frame number among `dir`'s label PNGs, if any.
+fn last_label_frame(dir: &Path) -> Result<Option<usize>> {
+    let entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, "reading folder", e))?;
+    Ok(entries
+        .flatten()
+        .filter_map(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            is_label_png_name(&name)
+                .then(|| name.split('.').next().and_then(|n| n.parse::<usize>().ok()))
+                .flatten()
+        })
+        .max())
+}
+
 /// `<6 digits>.depth.png` or `<6 digits>.rgb.png` (SPEC §4; more digits past frame 999 999),
 /// or such a file's `.part` left by an export that was killed while writing it.
 fn is_label_png_name(name: &str) -> bool {
@@ -144,7 +185,7 @@ impl Drop for LabelExport {
 
 impl Sink for LabelExport {
     fn write(&mut self, frame: &Frame) -> Result<()> {
-        let i = frame.seq as usize;
+        let i = frame.seq as usize + self.offset;
         labels::write_label_png_with(
             &labels::label_path(&self.dir, i, "depth"),
             &frame.labels.ir_labels,
