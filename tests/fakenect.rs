@@ -248,7 +248,7 @@ fn fakenect_recording_with_a_missing_accelerometer_file_is_one_line() {
     let text = std::fs::read_to_string(&index).unwrap();
     std::fs::write(&index, format!("{text}a-1700000000.100000-7.dump\n")).unwrap();
     let line = text.lines().count() + 1;
-    let out = under_fakenect(&fakenect, &rec, &tmp.path().join("out"))
+    let out = under_fakenect(fakenect, &rec, &tmp.path().join("out"))
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
