@@ -451,3 +451,28 @@ fn a_restarted_daemon_keeps_the_labels_of_the_run_before() {
     let (ok, _, stderr) = daemon();
     assert!(!ok && stderr.contains("notes.txt"), "{stderr}");
 }
+
+/// `umbra tail --export-labels` read to the end leaves exactly the segments' frames in the
+/// folder: an earlier export's frames past the last one are removed, as replay's export does.
+#[test]
+fn tail_export_replaces_an_earlier_export_whole() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rec = bundled("box-before-wall");
+    let (mcap, labels) = (tmp.path().join("mcap"), tmp.path().join("labels"));
+    let (ok, _, stderr) = run(&[
+        "run",
+        "--source",
+        &format!("replay:{rec}"),
+        "--fast",
+        "--out",
+        &s(&mcap),
+    ]);
+    assert!(ok, "{stderr}");
+    std::fs::create_dir(&labels).unwrap();
+    std::fs::write(labels.join("000009.depth.png"), b"an earlier export's").unwrap();
+    let (ok, _, stderr) = run(&["tail", &s(&mcap), "--export-labels", &s(&labels)]);
+    assert!(ok, "{stderr}");
+    let names = files(&labels);
+    assert!(!names.iter().any(|n| n.starts_with("000009")), "{names:?}");
+    assert_eq!(names.len(), 4, "two frames, two views: {names:?}");
+}

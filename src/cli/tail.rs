@@ -54,6 +54,11 @@ pub fn run(a: Args) -> Result<()> {
     match result {
         // Whoever read our output went away (`umbra tail ... | head`): not an error.
         Err(_) if out.closed => Ok(()),
+        // Read to the end: an earlier export's frames past the last one read go (SPEC §4).
+        Ok(()) => match &mut out.labels {
+            Some(labels) => labels.finish(),
+            None => Ok(()),
+        },
         r => r,
     }
 }
