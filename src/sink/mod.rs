@@ -103,14 +103,7 @@ impl LabelExport {
             std::fs::read_dir(&self.dir).map_err(|e| Error::io(&self.dir, "reading folder", e))?;
         let mut removed = 0;
         for entry in entries.flatten() {
-            let name = entry.file_name();
-            let name = name.to_string_lossy();
-            let frame = name
-                .split('.')
-                .next()
-                .filter(|_| is_label_png_name(&name))
-                .and_then(|n| n.parse::<usize>().ok());
-            if frame.is_some_and(|i| i > last) {
+            if label_frame(&entry.file_name().to_string_lossy()).is_some_and(|i| i > last) {
                 std::fs::remove_file(entry.path())
                     .map_err(|e| Error::io(entry.path(), "removing", e))?;
                 removed += 1;
@@ -131,7 +124,7 @@ fn earlier_labels(dir: &Path) -> Result<usize> {
     for entry in entries {
         let entry = entry.map_err(|e| Error::io(dir, "reading folder", e))?;
         let name = entry.file_name();
-        if is_label_png_name(&name.to_string_lossy()) {
+        if label_frame(&name.to_string_lossy()).is_some() {
             labels += 1;
         } else {
             return Err(Error::input(
@@ -152,26 +145,23 @@ fn last_label_frame(dir: &Path) -> Result<Option<usize>> {
     let entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, "reading folder", e))?;
     Ok(entries
         .flatten()
-        .filter_map(|e| {
-            let name = e.file_name().to_string_lossy().into_owned();
-            is_label_png_name(&name)
-                .then(|| name.split('.').next().and_then(|n| n.parse::<usize>().ok()))
-                .flatten()
-        })
+        .filter_map(|e| label_frame(&e.file_name().to_string_lossy()))
         .max())
 }
 
-/// `<6 digits>.depth.png` or `<6 digits>.rgb.png` (SPEC §4; more digits past frame 999 999),
-/// or such a file's `.part` left by an export that was killed while writing it.
-fn is_label_png_name(name: &str) -> bool {
+/// The frame number of a SPEC §4 label PNG's name (`<6 digits>.depth.png` or `.rgb.png`; more
+/// digits past frame 999 999), or of such a file's `.part` left by an export that was killed
+/// while writing it; `None` for any other name.
+fn label_frame(name: &str) -> Option<usize> {
     let name = name.strip_suffix(".part").unwrap_or(name);
-    let Some(stem) = name
+    let stem = name
         .strip_suffix(".depth.png")
-        .or_else(|| name.strip_suffix(".rgb.png"))
-    else {
-        return false;
-    };
-    stem.len() >= 6 && stem.bytes().all(|b| b.is_ascii_digit())
+        .or_else(|| name.strip_suffix(".rgb.png"))?;
+    if stem.len() >= 6 && stem.bytes().all(|b| b.is_ascii_digit()) {
+        stem.parse().ok()
+    } else {
+        None
+    }
 }
 
 impl Drop for LabelExport {
