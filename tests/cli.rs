@@ -766,3 +766,20 @@ fn synth_keeps_ground_truth_outside_the_recording() {
         assert!(!rec.exists(), "{} was written", rec.display());
     }
 }
+
+/// A `--gt` folder that does not exist is said so, by eval and by render, in one line.
+#[test]
+fn a_missing_ground_truth_folder_is_named() {
+    let rec = concat!(env!("CARGO_MANIFEST_DIR"), "/recordings/complex-room");
+    let tmp = tempfile::tempdir().unwrap();
+    let gt = tmp.path().join("no-such-gt").display().to_string();
+    let png = tmp.path().join("x.png").display().to_string();
+    for args in [
+        vec!["eval", rec, "--gt", &gt],
+        vec!["render", rec, "--gt", &gt, "--out", &png],
+    ] {
+        let err = umbra_fails(&args);
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains("no-such-gt: no such folder"), "{err}");
+    }
+}

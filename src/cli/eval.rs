@@ -13,7 +13,7 @@ use crate::labels::PIXELS;
 use crate::recording::Recording;
 use crate::segment::files::{mask_path, read_mask_png};
 use crate::segment::{Params as SegParams, SeedMode, Segmenter, BG, FG};
-use crate::sink::labels::{read_ir_label_png, read_label_png, write_label_png};
+use crate::sink::labels::{check_truth_dir, read_ir_label_png, read_label_png, write_label_png};
 
 /// Arguments of `umbra eval`.
 #[derive(clap::Args, Debug)]
@@ -221,13 +221,7 @@ fn plan(a: &Args) -> Result<Vec<Job>> {
             )));
         }
     }
-    if !a.gt.is_dir() {
-        return Err(Error::input(
-            &a.gt,
-            "",
-            "no such folder: --gt names the folder of ground-truth label PNGs (SPEC §4)",
-        ));
-    }
+    check_truth_dir(&a.gt)?;
     if a.recording.join("INDEX.txt").is_file() {
         // `eval .` is named after the folder it is, not ".".
         let name = a

@@ -10,7 +10,7 @@ use crate::labels::PIXELS;
 use crate::recording::Recording;
 use crate::render::{render_panels, render_with_truth, Truth};
 use crate::sink::labels::write_atomically;
-use crate::sink::labels::{label_path, read_ir_label_png, read_label_png};
+use crate::sink::labels::{check_truth_dir, label_path, read_ir_label_png, read_label_png};
 
 /// Arguments of `umbra render`.
 #[derive(clap::Args, Debug)]
@@ -117,13 +117,7 @@ type TruthMaps = (Option<Vec<u8>>, Option<Vec<u8>>);
 /// The ground-truth label maps of frame `i` in `dir`, per view, where there is a file; at least
 /// one view must have one.
 fn read_truth(dir: &std::path::Path, i: usize) -> Result<TruthMaps> {
-    if !dir.is_dir() {
-        return Err(Error::input(
-            dir,
-            "",
-            "no such folder: --gt names the folder of ground-truth label PNGs (SPEC §4)",
-        ));
-    }
+    check_truth_dir(dir)?;
     let read = |view: &str| -> Result<Option<Vec<u8>>> {
         let path = label_path(dir, i, view);
         if !path.is_file() {

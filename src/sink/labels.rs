@@ -36,6 +36,20 @@ pub fn read_label_png(path: &Path, out: &mut [u8]) -> Result<()> {
     Ok(())
 }
 
+/// A `--gt` folder that does not exist is an error of its own, rather than every label PNG in it
+/// reported missing.
+pub fn check_truth_dir(dir: &Path) -> Result<()> {
+    if dir.is_dir() {
+        Ok(())
+    } else {
+        Err(Error::input(
+            dir,
+            "",
+            "no such folder: --gt names the folder of ground-truth label PNGs (SPEC §4)",
+        ))
+    }
+}
+
 /// [`read_label_png`] for the IR view's labels, where there is no alignment shadow (SPEC §1–2):
 /// a file holding one is most likely an RGB-view file under the wrong name.
 pub fn read_ir_label_png(path: &Path, out: &mut [u8]) -> Result<()> {
