@@ -400,6 +400,18 @@ fn foreground_masks_in_the_daemon_match_the_ground_truth() {
     assert!(masks >= 1, "no foreground mask written");
 }
 
+/// `umbra run --source replay:REC --fast --out MCAP [--export-labels LABELS]`.
+fn fast_replay_run(rec: &str, mcap: &Path, labels: Option<&Path>) -> (bool, String, String) {
+    let source = format!("replay:{rec}");
+    let out = s(mcap);
+    let mut args = vec!["run", "--source", &source, "--fast", "--out", &out];
+    let labels = labels.map(s);
+    if let Some(l) = &labels {
+        args.extend(["--export-labels", l]);
+    }
+    run(&args)
+}
+
 /// The daemon numbers frames from 0 at every start; a restart (a service's, say) with the same
 /// `--export-labels` folder keeps the run before's label PNGs and writes after them, never over
 /// them. Nothing else in the folder is accepted, as for `replay`.
@@ -408,18 +420,7 @@ fn a_restarted_daemon_keeps_the_labels_of_the_run_before() {
     let tmp = tempfile::tempdir().unwrap();
     let rec = bundled("box-before-wall");
     let (mcap, labels) = (tmp.path().join("mcap"), tmp.path().join("labels"));
-    let daemon = || {
-        run(&[
-            "run",
-            "--source",
-            &format!("replay:{rec}"),
-            "--fast",
-            "--out",
-            &s(&mcap),
-            "--export-labels",
-            &s(&labels),
-        ])
-    };
+    let daemon = || fast_replay_run(&rec, &mcap, Some(&labels));
     let (ok, _, stderr) = daemon();
     assert!(ok, "{stderr}");
     let first: Vec<(String, Vec<u8>)> = files(&labels)
@@ -459,14 +460,7 @@ fn tail_export_replaces_an_earlier_export_whole() {
     let tmp = tempfile::tempdir().unwrap();
     let rec = bundled("box-before-wall");
     let (mcap, labels) = (tmp.path().join("mcap"), tmp.path().join("labels"));
-    let (ok, _, stderr) = run(&[
-        "run",
-        "--source",
-        &format!("replay:{rec}"),
-        "--fast",
-        "--out",
-        &s(&mcap),
-    ]);
+    let (ok, _, stderr) = fast_replay_run(&rec, &mcap, None);
     assert!(ok, "{stderr}");
     std::fs::create_dir(&labels).unwrap();
     std::fs::write(labels.join("000009.depth.png"), b"an earlier export's").unwrap();
