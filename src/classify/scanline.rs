@@ -305,8 +305,8 @@ impl Widening {
 
     /// How much more than `attached_over_px` a shadow may be widened in this frame: none for a
     /// Kinect (median excess 2.3 px on the real frame, 2.2 on the simulator's), more for a sensor
-    /// whose correlation window widens more, whose spread of widths grows with it (twice the
-    /// median's excess over 2.5 px, up to [`MAX_EXTRA_OVER`]).
+    /// whose correlation window widens more, whose spread of widths grows with it (three times
+    /// the median's excess over 2.5 px, up to [`MAX_EXTRA_OVER`]).
     fn extra_over(&self) -> f32 {
         self.median().map_or(0.0, |m| {
             (3.0 * (m - 2.5)).clamp(0.0, MAX_EXTRA_OVER as f64) as f32

@@ -175,8 +175,7 @@ pub fn run(a: Args) -> Result<()> {
     };
     let mut seg_report = seg.as_ref().map(|w| SegReport::new(w.pairs.clone()));
     for job in &jobs {
-        job.rec.warn_missing_rgb();
-        job.rec.warn_implausible_depth();
+        job.rec.warn_doubts();
         bar.set_prefix(job.name.clone());
         let (tally, seg_tally) =
             score(job, params, seg.as_mut(), &bar).inspect_err(|_| bar.abandon())?;

@@ -48,8 +48,7 @@ impl Sink for ReplayMcap {
 pub fn run(a: Args) -> crate::Result<()> {
     let config = Config::load_or_default(a.config.as_deref())?;
     let rec = Recording::open(&a.recording)?;
-    rec.warn_missing_rgb();
-    rec.warn_implausible_depth();
+    rec.warn_doubts();
     let classifier = Classifier::with_params(rec.calibration(), config.params());
     tracing::info!(frames = rec.len(), calibration = ?rec.calibration_source(), "replaying {}", a.recording.display());
     let mut sinks: Vec<Box<dyn Sink>> = Vec::new();

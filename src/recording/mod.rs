@@ -172,7 +172,7 @@ impl Recording {
 
     /// Warns (tracing) when depth frames have no RGB frame to pair with, which costs them the
     /// colour split: a user replaying a recording whose colour stream stopped should know.
-    pub fn warn_missing_rgb(&self) {
+    fn warn_missing_rgb(&self) {
         let (missing, n) = (self.frames_without_rgb(), self.len());
         if missing == n {
             tracing::warn!(
@@ -191,11 +191,11 @@ impl Recording {
     /// Warns (tracing) when the first depth frame does not look like what the raw model of
     /// [`Recording::calibration`] describes: raw 0 (a Kinect v1's 11-bit stream never sends it,
     /// a millimetre stream's "no depth" is 0) or values past the model's zero disparity (which
-    /// it maps to no depth). Either way the labels would be quietly wrong. Returns the warnings.
-    pub fn warn_implausible_depth(&self) -> Vec<String> {
+    /// it maps to no depth). Either way the labels would be quietly wrong.
+    fn warn_implausible_depth(&self) {
         let mut raw = vec![0u16; crate::labels::PIXELS];
         if self.read_depth(0, &mut raw).is_err() {
-            return Vec::new(); // The frame's own error comes when it is classified.
+            return; // The frame's own error comes when it is classified.
         }
         let den = self.calibration.raw.denominator;
         let zero = raw.iter().filter(|&&r| r == 0).count();
@@ -204,25 +204,27 @@ impl Recording {
             .filter(|&&r| r != crate::labels::NO_DEPTH && f64::from(r) >= den - 0.5)
             .count();
         let share = |n: usize| 100.0 * n as f64 / raw.len() as f64;
-        let mut warnings = Vec::new();
         if share(zero) > 1.0 {
-            warnings.push(format!(
+            tracing::warn!(
                 "{}: {:.0}% of the first depth frame's pixels are 0, which a Kinect v1's 11-bit stream never sends: is this a millimetre (FREENECT_DEPTH_MM or registered) recording? umbra needs FREENECT_DEPTH_11BIT",
                 self.dir.display(),
                 share(zero)
-            ));
+            );
         }
         if share(beyond) > 5.0 {
-            warnings.push(format!(
+            tracing::warn!(
                 "{}: {:.0}% of the first depth frame's pixels are at or past the raw model's zero disparity ({den}), which it reads as no depth: check [raw] in the calibration",
                 self.dir.display(),
                 share(beyond)
-            ));
+            );
         }
-        for w in &warnings {
-            tracing::warn!("{w}");
-        }
-        warnings
+    }
+
+    /// Warns (tracing) about what makes this recording's labels poorer or doubtful before any
+    /// frame is classified: depth frames without RGB, depth the raw model cannot read.
+    pub fn warn_doubts(&self) {
+        self.warn_missing_rgb();
+        self.warn_implausible_depth();
     }
 
     /// The calibration to classify with.
