@@ -89,6 +89,15 @@ impl Case {
         self.rec().join("calibration.toml")
     }
 
+    /// Rewrites the recording's INDEX.txt with `edit` of its text; its path and the number of
+    /// lines it had.
+    fn edit_index(&self, edit: impl FnOnce(&str) -> String) -> (PathBuf, usize) {
+        let index = self.rec().join("INDEX.txt");
+        let text = std::fs::read_to_string(&index).unwrap();
+        std::fs::write(&index, edit(&text)).unwrap();
+        (index, text.lines().count())
+    }
+
     /// Replaces the first `from` in the recording's calibration.toml by `to`.
     fn edit_calibration(&self, from: &str, to: &str) {
         let text = std::fs::read_to_string(self.calibration()).unwrap();
@@ -176,10 +185,8 @@ fn recording_folder_without_index() {
 #[test]
 fn index_bad_line_names_the_line() {
     let c = Case::new();
-    let index = c.rec().join("INDEX.txt");
-    let text = std::fs::read_to_string(&index).unwrap();
-    let line = text.lines().count() + 1;
-    std::fs::write(&index, format!("{text}x-1-2.pgm\n")).unwrap();
+    let (index, lines) = c.edit_index(|text| format!("{text}x-1-2.pgm\n"));
+    let line = lines + 1;
     one_line_error(
         c.replay(),
         &[
@@ -264,9 +271,7 @@ fn index_with_a_byte_order_mark_is_read() {
 #[test]
 fn index_comment_line_is_named_as_such() {
     let c = Case::new();
-    let index = c.rec().join("INDEX.txt");
-    let text = std::fs::read_to_string(&index).unwrap();
-    std::fs::write(&index, format!("# recorded by hand\n{text}")).unwrap();
+    let (index, _) = c.edit_index(|text| format!("# recorded by hand\n{text}"));
     one_line_error(
         c.replay(),
         &[
@@ -281,14 +286,10 @@ fn index_comment_line_is_named_as_such() {
 fn index_naming_missing_accelerometer_files_warns_once() {
     // umbra never reads a-*.dump: a lost one is no reason to refuse the recording.
     let c = Case::new();
-    let index = c.rec().join("INDEX.txt");
-    let text = std::fs::read_to_string(&index).unwrap();
-    let line = text.lines().count() + 1;
-    std::fs::write(
-        &index,
-        format!("{text}a-1700000000.040000-3.dump\na-1700000000.050000-4.dump\n"),
-    )
-    .unwrap();
+    let (index, lines) = c.edit_index(|text| {
+        format!("{text}a-1700000000.040000-3.dump\na-1700000000.050000-4.dump\n")
+    });
+    let line = lines + 1;
     let err = c.replay_ok();
     assert_eq!(
         err.lines().count(),

@@ -42,6 +42,13 @@ fn umbra_fails(args: &[&str]) -> String {
     err
 }
 
+/// The label codes of a label PNG.
+fn labels_at(path: &Path) -> Vec<u8> {
+    let mut labels = vec![0u8; PIXELS];
+    read_label_png(path, &mut labels).unwrap();
+    labels
+}
+
 /// Replays `rec` with `--export-labels dir`.
 fn export_labels(rec: &str, dir: &Path) -> Output {
     umbra(&["replay", rec, "--export-labels", &dir.display().to_string()])
@@ -138,16 +145,13 @@ fn eval_scores_the_box_scene_against_ground_truth() {
     assert!(any["precision"].as_f64().unwrap() > 0.9, "{any}");
 
     // The ground truth is independent of the classifier: its attached pixels lie left of the box.
-    let mut g = vec![0u8; PIXELS];
-    read_label_png(&label_path(Path::new(&gt), 0, "depth"), &mut g).unwrap();
+    let g = labels_at(&label_path(Path::new(&gt), 0, "depth"));
     assert!(g.contains(&ATTACHED));
 }
 
 /// `[gt][pred]` counts of one label PNG pair, read here rather than by `umbra eval`.
 fn confusion(gt: &Path, pred: &Path) -> [[u64; 5]; 5] {
-    let (mut g, mut p) = (vec![0u8; PIXELS], vec![0u8; PIXELS]);
-    read_label_png(gt, &mut g).unwrap();
-    read_label_png(pred, &mut p).unwrap();
+    let (g, p) = (labels_at(gt), labels_at(pred));
     let mut m = [[0u64; 5]; 5];
     for (&a, &b) in g.iter().zip(&p) {
         m[a as usize][b as usize] += 1;
@@ -274,8 +278,7 @@ fn synth_simulates_another_kinects_calibration_and_the_classifier_follows_it() {
     // The simulator uses it. By hand: the box's front face (1 m) starts at X = −0.2 m, so at
     // u = cx + fx·X/Z = 319.5 − 575.8157·0.2 = 204.3 (NYU's: 196.5), and its attached shadow on
     // the wall at 3 m is f·b·(1/1 − 1/3) = 575.8157 · 0.075 · 2/3 = 28.79 px wide, left of it.
-    let mut g = vec![0u8; PIXELS];
-    read_label_png(&label_path(Path::new(&gt), 0, "depth"), &mut g).unwrap();
+    let g = labels_at(&label_path(Path::new(&gt), 0, "depth"));
     let row = &g[240 * 640..241 * 640];
     let start = row.iter().position(|&l| l == ATTACHED).unwrap() as f64;
     let end = row.iter().rposition(|&l| l == ATTACHED).unwrap() as f64 + 1.0;
@@ -342,9 +345,10 @@ fn render_against_ground_truth_marks_each_missed_pixel_in_its_true_colour() {
     // The IR error panel, counted against the label PNGs read here: a pixel the ground truth
     // labels a shadow or other hole and the frame labels otherwise is that label's paper colour;
     // no pixel where the two agree is.
-    let (mut truth, mut pred) = (vec![0u8; PIXELS], vec![0u8; PIXELS]);
-    read_label_png(&label_path(gt, 0, "depth"), &mut truth).unwrap();
-    read_label_png(&label_path(&labels, 0, "depth"), &mut pred).unwrap();
+    let (truth, pred) = (
+        labels_at(&label_path(gt, 0, "depth")),
+        labels_at(&label_path(&labels, 0, "depth")),
+    );
     let (x0, y0) = truth_panel_origin(1);
     let (mut missed, mut shown) = (0, 0);
     for i in 0..PIXELS {
@@ -698,8 +702,7 @@ fn eval_refuses_alignment_in_ir_view_ground_truth() {
     let tmp = tempfile::tempdir().unwrap();
     let (rec, gt) = synth_box(tmp.path(), "box", &[]);
     let depth = label_path(&gt, 0, "depth");
-    let mut labels = vec![0u8; PIXELS];
-    read_label_png(&depth, &mut labels).unwrap();
+    let mut labels = labels_at(&depth);
     labels[7 * 640 + 5] = 3;
     umbra::sink::labels::write_label_png(&depth, &labels).unwrap();
     let err = umbra_fails(&[
@@ -723,8 +726,7 @@ fn synth_shadow_widening_widens_shadows() {
     let tmp = tempfile::tempdir().unwrap();
     let mean_width = |extra: &[&str], name: &str| {
         let (_, gt) = synth_box(tmp.path(), name, extra);
-        let mut labels = vec![0u8; PIXELS];
-        read_label_png(&label_path(&gt, 0, "depth"), &mut labels).unwrap();
+        let labels = labels_at(&label_path(&gt, 0, "depth"));
         let widths: Vec<f64> = labels
             .chunks(640)
             .map(|r| r.iter().filter(|&&l| l == ATTACHED).count() as f64)
