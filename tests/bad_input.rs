@@ -98,6 +98,14 @@ impl Case {
         (index, text.lines().count())
     }
 
+    /// Replaces the recording's calibration.toml by a device.json holding `text`; its path.
+    fn device_json(&self, text: &str) -> PathBuf {
+        std::fs::remove_file(self.calibration()).unwrap();
+        let path = self.rec().join("device.json");
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
     /// Replaces the first `from` in the recording's calibration.toml by `to`.
     fn edit_calibration(&self, from: &str, to: &str) {
         let text = std::fs::read_to_string(self.calibration()).unwrap();
@@ -533,8 +541,7 @@ fn device_json_used_only_without_calibration_toml() {
         "calibration.toml takes precedence over device.json: {e}"
     );
     // Without it, a good device.json is accepted.
-    std::fs::remove_file(c.calibration()).unwrap();
-    std::fs::write(c.rec().join("device.json"), DEVICE_JSON_OK).unwrap();
+    c.device_json(DEVICE_JSON_OK);
     let (ok, e) = c.replay();
     assert!(ok, "a valid device.json must load: {e}");
 }
@@ -543,13 +550,7 @@ fn device_json_used_only_without_calibration_toml() {
 fn device_json_without_registration_data_means_defaults() {
     // libfreenect's record of a device with no registration data: every zero-plane value 0.
     let c = Case::new();
-    std::fs::remove_file(c.calibration()).unwrap();
-    let dj = c.rec().join("device.json");
-    std::fs::write(
-        &dj,
-        r#"{"reg_info":{"zero_plane_info":{"dcmos_emitter_distance":0,"dcmos_rcmos_distance":0,"reference_distance":0,"reference_pixel_size":0}},"const_shift":0}"#,
-    )
-    .unwrap();
+    let dj = c.device_json(r#"{"reg_info":{"zero_plane_info":{"dcmos_emitter_distance":0,"dcmos_rcmos_distance":0,"reference_distance":0,"reference_pixel_size":0}},"const_shift":0}"#);
     let err = c.replay_ok();
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(
@@ -564,13 +565,9 @@ fn device_json_without_registration_data_means_defaults() {
 #[test]
 fn device_json_zero_reference_distance_reads_as_a_range() {
     let c = Case::new();
-    std::fs::remove_file(c.calibration()).unwrap();
-    let dj = c.rec().join("device.json");
-    std::fs::write(
-        &dj,
-        DEVICE_JSON_OK.replace("\"reference_distance\":120", "\"reference_distance\":0"),
-    )
-    .unwrap();
+    let dj = c.device_json(
+        &DEVICE_JSON_OK.replace("\"reference_distance\":120", "\"reference_distance\":0"),
+    );
     one_line_error(
         c.replay(),
         &[
@@ -584,9 +581,7 @@ fn device_json_zero_reference_distance_reads_as_a_range() {
 #[test]
 fn device_json_invalid() {
     let c = Case::new();
-    std::fs::remove_file(c.calibration()).unwrap();
-    let dj = c.rec().join("device.json");
-    std::fs::write(&dj, "{\"reg_info\": {\"zero_plane_info\": [1, 2,\n").unwrap();
+    let dj = c.device_json("{\"reg_info\": {\"zero_plane_info\": [1, 2,\n");
     let (ok, e) = c.replay();
     assert!(
         !e.contains(" at line "),
@@ -598,16 +593,10 @@ fn device_json_invalid() {
 #[test]
 fn device_json_negative_emitter_distance() {
     let c = Case::new();
-    std::fs::remove_file(c.calibration()).unwrap();
-    let dj = c.rec().join("device.json");
-    std::fs::write(
-        &dj,
-        DEVICE_JSON_OK.replace(
-            "\"dcmos_emitter_distance\":7.5",
-            "\"dcmos_emitter_distance\":-7.5",
-        ),
-    )
-    .unwrap();
+    let dj = c.device_json(&DEVICE_JSON_OK.replace(
+        "\"dcmos_emitter_distance\":7.5",
+        "\"dcmos_emitter_distance\":-7.5",
+    ));
     one_line_error(
         c.replay(),
         &[
@@ -622,16 +611,10 @@ fn device_json_negative_emitter_distance() {
 fn device_json_absurd_emitter_distance_names_its_key() {
     // 750 cm is positive but no Kinect: reported under the file's key, not a derived one.
     let c = Case::new();
-    std::fs::remove_file(c.calibration()).unwrap();
-    let dj = c.rec().join("device.json");
-    std::fs::write(
-        &dj,
-        DEVICE_JSON_OK.replace(
-            "\"dcmos_emitter_distance\":7.5",
-            "\"dcmos_emitter_distance\":750",
-        ),
-    )
-    .unwrap();
+    let dj = c.device_json(&DEVICE_JSON_OK.replace(
+        "\"dcmos_emitter_distance\":7.5",
+        "\"dcmos_emitter_distance\":750",
+    ));
     one_line_error(
         c.replay(),
         &[
