@@ -735,7 +735,7 @@ fn classify_bounded(
         } else if let Some(bg) = behind_thin_sa(p, raw, h, sa, sb, w, above) {
             place(filled, raw, h, bg);
         }
-        beyond_range(raw, h, range, above, prev_labels, labels);
+        beyond_range(raw, h, range, above, prev_labels, near, labels);
         below_unmeasured(p, raw, h, near[0], prev_labels, labels);
         return;
     }
@@ -1207,7 +1207,15 @@ pub(crate) fn beyond_range_span(
     prev_labels: &[u8],
     labels: &mut [u8],
 ) {
-    beyond_range(raw, Run { start, end }, range, &[], prev_labels, labels);
+    beyond_range(
+        raw,
+        Run { start, end },
+        range,
+        &[],
+        prev_labels,
+        [&[], &[]],
+        labels,
+    );
 }
 
 fn beyond_range(
@@ -1216,6 +1224,7 @@ fn beyond_range(
     Range { far, limit }: Range,
     above: &[u16],
     prev_labels: &[u8],
+    near: [&[u16]; 2],
     labels: &mut [u8],
 ) {
     const SPAN: usize = 16;
@@ -1235,7 +1244,22 @@ fn beyond_range(
     }
     // Raw units per pixel; a long baseline keeps the 1/8-px quantisation noise small, and pairs
     // of pixels at both ends halve the raw noise (the extrapolation starts between the pair).
-    let pair = |i: usize| f32::from(raw[i]) + f32::from(raw[i + 1]);
+    // Each baseline pixel is averaged with the rows above and below where they show the same
+    // surface: one row's noise can tilt a level wall's baseline enough to leave the range.
+    let at_col = |x: usize| {
+        let r = raw[x];
+        let (mut sum, mut n) = (u32::from(r), 1u32);
+        for row in near {
+            if let Some(&q) = row.get(x) {
+                if q != NO_DEPTH && q.abs_diff(r) <= 4 {
+                    sum += u32::from(q);
+                    n += 1;
+                }
+            }
+        }
+        sum as f32 / n as f32
+    };
+    let pair = |i: usize| at_col(i) + at_col(i + 1);
     let slope = (pair(a - 1) - pair(a - k)) / (2 * (k - 1)) as f32;
     if slope <= 0.05 {
         return; // level or approaching: it cannot leave the range inside the hole
@@ -2303,6 +2327,46 @@ mod tests {
         classify_frame(&p, &raw, &mut labels, &mut filled);
         for v in [101, 240, 379] {
             assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], 271..300, ATTACHED);
+        }
+    }
+
+    #[test]
+    fn one_rows_noise_on_a_level_farthest_wall_sends_no_shadow_out_of_range() {
+        // A level wall at 3 m is the frame's farthest surface (raw r, every third pixel r + 1:
+        // the range limit is r + 1), and a rod at 1.5 m casts its attached shadow from the top
+        // row to the bottom, so no row above ever measured the shadow's columns. Eq. (3) gives
+        // the width by hand: f·b·(1/1.5 − 1/3) px. In one row the two pixels left of Sa read
+        // r + 1 and r + 2: alone, that row's baseline rises 0.1 unit a pixel and passes the limit
+        // inside the shadow; the rows above and below see the wall level. Before, that row went
+        // OTHER, and every row under it followed (a hole under an OTHER hole after the same
+        // surface is an unmeasured region): 240 rows of shadow lost.
+        let (c, p) = params();
+        let r = raw_at(&c, 3.0);
+        let w = (c.fb() * (1.0 / 1.5 - 1.0 / 3.0)).round() as usize;
+        let (start, end) = (320 - w, 320);
+        let mut raw: Vec<u16> = (0..PIXELS)
+            .map(|i| r + u16::from((i % WIDTH + i / WIDTH) % 3 == 0))
+            .collect();
+        for v in 0..HEIGHT {
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            row[start..end].fill(NO_DEPTH);
+            row[end..end + 12].fill(raw_at(&c, 1.5));
+        }
+        let tilted = &mut raw[240 * WIDTH..241 * WIDTH];
+        tilted[start - 17..start - 2].fill(r);
+        tilted[start - 2] = r + 1;
+        tilted[start - 1] = r + 2;
+        assert_eq!(
+            Range::of(&raw),
+            Range {
+                far: r + 2,
+                limit: r + 1
+            }
+        );
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        for v in [0, 239, 240, 241, 360, HEIGHT - 1] {
+            assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], start..end, ATTACHED);
         }
     }
 
