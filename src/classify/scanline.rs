@@ -2345,7 +2345,7 @@ mod tests {
         let w = (c.fb() * (1.0 / 1.5 - 1.0 / 3.0)).round() as usize;
         let (start, end) = (320 - w, 320);
         let mut raw: Vec<u16> = (0..PIXELS)
-            .map(|i| r + u16::from((i % WIDTH + i / WIDTH) % 3 == 0))
+            .map(|i| r + u16::from((i % WIDTH + i / WIDTH).is_multiple_of(3)))
             .collect();
         for v in 0..HEIGHT {
             let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
