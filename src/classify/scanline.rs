@@ -918,7 +918,7 @@ fn hidden_background(
     // under an object's overhang) leaves no room for a shadow. The surface right of Sb is no
     // stand-in: it is as often a second object as the background.
     let from_above = farthest_above(above, h);
-    let Some(bg) = from_above else {
+    let Some(bg) = from_above.or_else(|| beside_thin_sa(p, raw, h, sa, labels)) else {
         return;
     };
     // Sa must lie before the background, else nothing hides part of the shadow.
@@ -971,6 +971,42 @@ fn behind_thin_sa(
     let bg = farthest_above(above, h)?;
     let on_bg = p.disp(sb.near) - p.disp(bg);
     (p.disp(sa.near) - p.disp(bg) >= p.min_step && width <= on_bg + p.over).then_some(bg)
+}
+
+/// The background behind a thin Sa, from the row itself: where nothing above the hole was ever
+/// measured (a shadow running down from the frame's top), the surface left of Sa is what
+/// continues behind it, if it lies farther than Sa, and if the holes between them are shadows on
+/// it (Sa's own detached shadow, say): a hole left OTHER there may be a region beyond range,
+/// which the thin object stands before with nothing behind it to take a shadow.
+fn beside_thin_sa(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, labels: &[u8]) -> Option<u16> {
+    // Holes crossed on the way (a thin object's own shadow is at most this wide).
+    const MAX_HOLES: usize = 64;
+    let d_sa = p.disp(sa.edge);
+    let run = raw[..h.start]
+        .iter()
+        .rev()
+        .take(THIN_SA + 1)
+        .take_while(|&&r| r != NO_DEPTH && (p.disp(r) - d_sa).abs() < p.min_step)
+        .count();
+    if run > THIN_SA {
+        return None;
+    }
+    let left = &raw[..h.start - run];
+    let holes = left
+        .iter()
+        .rev()
+        .take(MAX_HOLES + 1)
+        .take_while(|&&r| r == NO_DEPTH)
+        .count();
+    if holes > MAX_HOLES || holes == left.len() {
+        return None;
+    }
+    let crossed = &labels[left.len() - holes..left.len()];
+    if !crossed.iter().all(|&l| l == ATTACHED || l == DETACHED) {
+        return None;
+    }
+    let bg = left[left.len() - holes - 1];
+    (d_sa - p.disp(bg) >= p.min_step).then_some(bg)
 }
 
 /// Widest object (pixels) [`behind_thin_sa`] takes for a thin one.
@@ -1995,9 +2031,10 @@ mod tests {
             &labels[380..402]
         );
         assert_eq!(filled[390], raw_at(&c, 3.0), "the shadow lies on the wall");
-        // Nothing known above: no background to cast on, so the hole stays OTHER.
+        // Nothing known above (a shadow running from the frame's top): the wall left of the
+        // rod, past the rod's own shadow, is what continues behind it, the same answer.
         let (labels, _) = classify(&[NO_DEPTH; WIDTH]);
-        assert!(labels[386..400].iter().all(|&l| l == OTHER));
+        assert!(labels[386..400].iter().all(|&l| l == ATTACHED));
         // The box itself above those columns (the hole is under its overhang): no shadow.
         let mut memory = wall_with_holes(&c, &[]);
         memory[380..400].fill(raw_at(&c, 1.0));
@@ -2407,19 +2444,12 @@ mod tests {
         }
     }
 
-    #[test]
-    fn rods_detached_shadow_on_a_box_merged_with_the_boxs_attached_shadow() {
-        // Wall at 3 m, a box at 2 m from column 300, a rod at 0.8 m over columns [333, 345). By
-        // the projector's columns (pixel centre x + 0.5 lies in shadow where x + 0.5 − f·b/z
-        // falls in an occluder's [a − f·b/z_o, b − f·b/z_o)): the box hides the wall's 293..=299
-        // from the projector (its attached shadow, f·b·(1/2 − 1/3) = 7.3 px), the rod the box's
-        // 300..=311 (shift f·b·(1/0.8 − 1/2) = 32.8 px), and the box is lit again from 312 up to
-        // the rod: one hole 293..312, too wide for the box's shadow alone, attached where the
-        // box casts it, detached on the box.
-        let (c, p) = params();
+    /// One row of a wall at 3 m with `objects` (columns `[a, b)` at depth z) before it, lit by the
+    /// projector: a pixel whose centre x + 0.5 sees depth z is a hole where x + 0.5 − f·b/z falls
+    /// in a nearer object's projector columns `[a − f·b/z_o, b − f·b/z_o)`.
+    fn projected_row(c: &Calibration, objects: &[(f64, f64, f64)]) -> Vec<u16> {
         let fb = c.fb();
-        let objects = [(300.0, 400.0, 2.0), (333.0, 345.0, 0.8)];
-        let row: Vec<u16> = (0..WIDTH)
+        (0..WIDTH)
             .map(|x| {
                 let xc = x as f64 + 0.5;
                 let z = objects
@@ -2432,12 +2462,63 @@ mod tests {
                     .iter()
                     .all(|&(a, b, zo)| zo >= z || !(a - fb / zo..b - fb / zo).contains(&q));
                 if lit {
-                    raw_at(&c, z)
+                    raw_at(c, z)
                 } else {
                     NO_DEPTH
                 }
             })
-            .collect();
+            .collect()
+    }
+
+    #[test]
+    fn shadow_behind_a_nearer_rod_from_the_frames_top_lies_on_the_wall_left_of_it() {
+        // A box at 1.5 m from column 330 on, before a wall at 3 m, in every row: its attached
+        // shadow on the wall, f·b·(1/1.5 − 1/3) = 14.6 px, covers 315..=329. A rod at 1 m over
+        // [318, 322), nearer than the box, hides part of it: 315..=317 stay a hole left of the
+        // rod (cut off from the box: detached), 322..=329 right of it; the rod's own shadow
+        // falls on the wall at 289..=292. The hole right of the rod is bounded by the rod and
+        // the box, and nothing above it was ever measured (the shadow runs from the frame's top
+        // row): the wall left of the rod, beyond its cut-off shadow, is what the box's shadow
+        // lies on, and eq. (3) against it fits. With a region the sensor does not measure left
+        // of the rod (48 px, too wide for any shadow there: OTHER), the wall beyond it says
+        // nothing of what stands behind the rod: OTHER.
+        let (c, p) = params();
+        let row = projected_row(&c, &[(330.0, 640.0, 1.5), (318.0, 322.0, 1.0)]);
+        let hole = |a: usize, b: usize| (a..b).all(|x| row[x] == NO_DEPTH);
+        assert!(
+            hole(315, 318) && hole(322, 330) && hole(289, 293),
+            "worked by hand"
+        );
+        assert!(row[314] != NO_DEPTH && row[288] != NO_DEPTH && row[293] != NO_DEPTH);
+        let classify = |row: &[u16]| {
+            let raw: Vec<u16> = (0..HEIGHT).flat_map(|_| row.iter().copied()).collect();
+            let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+            classify_frame(&p, &raw, &mut labels, &mut filled);
+            labels
+        };
+        let labels = classify(&row);
+        for v in [0, 240, HEIGHT - 1] {
+            let l = &labels[v * WIDTH..(v + 1) * WIDTH];
+            assert_run(l, 322..330, ATTACHED);
+            assert_run(l, 315..318, DETACHED);
+        }
+        let mut beyond = row.clone();
+        beyond[270..318].fill(NO_DEPTH);
+        let labels = classify(&beyond);
+        assert_run(&labels[240 * WIDTH..241 * WIDTH], 322..330, OTHER);
+    }
+
+    #[test]
+    fn rods_detached_shadow_on_a_box_merged_with_the_boxs_attached_shadow() {
+        // Wall at 3 m, a box at 2 m from column 300, a rod at 0.8 m over columns [333, 345). By
+        // the projector's columns (pixel centre x + 0.5 lies in shadow where x + 0.5 − f·b/z
+        // falls in an occluder's [a − f·b/z_o, b − f·b/z_o)): the box hides the wall's 293..=299
+        // from the projector (its attached shadow, f·b·(1/2 − 1/3) = 7.3 px), the rod the box's
+        // 300..=311 (shift f·b·(1/0.8 − 1/2) = 32.8 px), and the box is lit again from 312 up to
+        // the rod: one hole 293..312, too wide for the box's shadow alone, attached where the
+        // box casts it, detached on the box.
+        let (c, p) = params();
+        let row = projected_row(&c, &[(300.0, 400.0, 2.0), (333.0, 345.0, 0.8)]);
         let hole: Vec<usize> = (0..WIDTH).filter(|&x| row[x] == NO_DEPTH).collect();
         assert_eq!(
             hole,
