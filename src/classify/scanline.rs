@@ -957,12 +957,7 @@ fn behind_thin_sa(
         return None;
     }
     let d_sa = p.disp(sa.edge);
-    let run = raw[..h.start]
-        .iter()
-        .rev()
-        .take(THIN_SA + 1)
-        .take_while(|&&r| r != NO_DEPTH && (p.disp(r) - d_sa).abs() < p.min_step)
-        .count();
+    let run = sa_run(p, raw, h, sa);
     let left = h.start.checked_sub(run + 1).map(|i| raw[i])?;
     let clear = left == NO_DEPTH || d_sa - p.disp(left) >= p.min_step;
     if run > THIN_SA || !clear {
@@ -982,12 +977,7 @@ fn beside_thin_sa(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, labels: &[u8])
     // Holes crossed on the way (a thin object's own shadow is at most this wide).
     const MAX_HOLES: usize = 64;
     let d_sa = p.disp(sa.edge);
-    let run = raw[..h.start]
-        .iter()
-        .rev()
-        .take(THIN_SA + 1)
-        .take_while(|&&r| r != NO_DEPTH && (p.disp(r) - d_sa).abs() < p.min_step)
-        .count();
+    let run = sa_run(p, raw, h, sa);
     if run > THIN_SA {
         return None;
     }
@@ -1007,6 +997,18 @@ fn beside_thin_sa(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, labels: &[u8])
     }
     let bg = left[left.len() - holes - 1];
     (d_sa - p.disp(bg) >= p.min_step).then_some(bg)
+}
+
+/// How many valid pixels on Sa's surface lie left of the hole, counted up to one past
+/// [`THIN_SA`] (more means Sa is no thin object).
+fn sa_run(p: &ScanParams, raw: &[u16], h: Run, sa: Bound) -> usize {
+    let d_sa = p.disp(sa.edge);
+    raw[..h.start]
+        .iter()
+        .rev()
+        .take(THIN_SA + 1)
+        .take_while(|&&r| r != NO_DEPTH && (p.disp(r) - d_sa).abs() < p.min_step)
+        .count()
 }
 
 /// Widest object (pixels) [`behind_thin_sa`] takes for a thin one.
