@@ -1303,14 +1303,16 @@ fn beyond_range(
     labels: &mut [u8],
 ) {
     const SPAN: usize = 16;
+    // Raw units (half a pixel of disparity) within which two pixels are one surface.
+    const SAME: u16 = 4;
     let a = h.start - 1;
-    // The baseline stays on Sa's surface: it stops at holes and at steps of more than 4 raw units
-    // (half a pixel of disparity), so a depth edge left of Sa cannot fake a steep slope.
+    // The baseline stays on Sa's surface: it stops at holes and at steps of more than SAME raw
+    // units, so a depth edge left of Sa cannot fake a steep slope.
     let mut k = 0;
     while k < SPAN
         && a > k
         && raw[a - k - 1] != NO_DEPTH
-        && raw[a - k].abs_diff(raw[a - k - 1]) <= 4
+        && raw[a - k].abs_diff(raw[a - k - 1]) <= SAME
     {
         k += 1;
     }
@@ -1326,7 +1328,7 @@ fn beyond_range(
         let (mut sum, mut n) = (u32::from(r), 1u32);
         for row in near {
             if let Some(&q) = row.get(x) {
-                if q != NO_DEPTH && q.abs_diff(r) <= 4 {
+                if q != NO_DEPTH && q.abs_diff(r) <= SAME {
                     sum += u32::from(q);
                     n += 1;
                 }
