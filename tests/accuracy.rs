@@ -314,6 +314,81 @@ fn detached_shadow_running_off_the_left_border() {
     }
 }
 
+/// The 2 cm rod at 1 m before a wall at 3 m, at x = 0.575 m: columns cx + fx·(0.575 ± 0.01) =
+/// 642.2..653.9, past the IR image's right border, while its detached shadow, 29.1 px further
+/// left, spans 613.1..624.8 with lit wall on both sides. Returns the frame and its labels with and
+/// without the RGB image.
+fn rod_off_the_right_border(scene: &Scene) -> (SynthFrame, Classified, Classified) {
+    let calib = Calibration::nyu_default();
+    let frame = render_frame(scene, &calib, &SensorModel::ideal(), 5);
+    let (depth_only, out) = (classify(&calib, &frame), classify_rgb(&calib, &frame));
+    (frame, depth_only, out)
+}
+
+#[test]
+fn detached_shadow_of_a_rod_beyond_the_right_border_is_told_by_colour() {
+    let calib = Calibration::nyu_default();
+    let (frame, depth_only, out) =
+        rod_off_the_right_border(&Scene::rod_before_wall(0.575, 1.0, 0.01, 3.0));
+    let w = calib.fb() * (1.0 - 1.0 / 3.0);
+    let (left, right) = (
+        calib.depth.cx + calib.depth.fx * 0.565 - w,
+        calib.depth.cx + calib.depth.fx * 0.585 - w,
+    );
+    let mut rows = 0;
+    for v in (20..HEIGHT - 20).step_by(7) {
+        let cols = |labels: &[u8]| -> Vec<usize> {
+            (560..WIDTH)
+                .filter(|&u| labels[v * WIDTH + u] == DETACHED)
+                .collect()
+        };
+        let truth = cols(&frame.ir_labels);
+        assert!(
+            truth.len() >= 10 && (truth[0] as f64 - left).abs() <= 1.5,
+            "row {v}: the scene {truth:?}"
+        );
+        assert!((*truth.last().unwrap() as f64 - right).abs() <= 1.5);
+        // Depth alone sees a hole with wall on both sides and no occluder: OTHER.
+        assert!(
+            cols(&depth_only.ir_labels).is_empty(),
+            "row {v}: depth alone"
+        );
+        assert_eq!(cols(&out.ir_labels), truth, "row {v}: detached with colour");
+        rows += 1;
+    }
+    assert!(rows > 50);
+    // Carried over into the RGB view.
+    let mut c = Confusion::default();
+    c.add(&frame.rgb_labels, &out.rgb_labels);
+    at_least(&c, Some(DETACHED), 0.95, "RGB detached beyond the border");
+}
+
+#[test]
+fn black_stripe_where_such_a_shadow_would_fall_stays_other() {
+    // The same hole, made by a black strip on the wall instead (13 mm proud of it, columns
+    // 613.1..624.8 at 3 m: x = (u − cx)·3/fx = 1.544..1.605 m): the RGB camera sees it dark.
+    let mut scene = Scene::rod_before_wall(0.575, 1.0, 0.01, 3.0);
+    scene.objects.pop();
+    scene.push(
+        "strip",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(1.5745, 0.0, 2.99),
+            half: umbra::synth::V3::new(0.0305, 3.0, 0.005),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::black(),
+    );
+    let (frame, _, out) = rod_off_the_right_border(&scene);
+    let holes = (0..frame.raw.len())
+        .filter(|&i| i % WIDTH > 560 && frame.ir_labels[i] == OTHER)
+        .count();
+    assert!(holes > 5000, "the strip leaves {holes} OTHER pixels");
+    assert!(
+        out.ir_labels.iter().all(|&l| l != DETACHED),
+        "a black strip called a shadow"
+    );
+}
+
 #[test]
 fn black_rod_without_depth_still_casts_a_detached_shadow() {
     // The same rod geometry, but black: the sensor measures nothing on it, so its hole and its

@@ -31,6 +31,7 @@ use super::scanline::{beyond_range_span, FrameFacts, Range};
 use crate::calib::Calibration;
 use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
+mod offimage;
 mod pairs;
 
 /// Narrowest merged hole considered (pixels): a shadow and an occluder of 5 px each. Narrower
@@ -318,6 +319,16 @@ impl ColourSplit {
                     continue;
                 }
                 if self.detached_pair(raw, rgb, labels, filled, &mut prefix.recent, v, (a, b)) {
+                    u = mask.next_hole(b.max(u + 1));
+                    continue;
+                }
+                if self.off_image_detached(raw, rgb, v, (a, b)) {
+                    let i = v * WIDTH;
+                    for (l, &r) in labels[i + a..i + b].iter_mut().zip(&raw[i + a..i + b]) {
+                        if r == NO_DEPTH && *l == OTHER {
+                            *l = DETACHED;
+                        }
+                    }
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }

@@ -1,0 +1,181 @@
+//! Detached shadows whose occluder stands beyond the IR image's right border.
+//!
+//! A thin occluder just right of the IR camera's view still casts its detached shadow into it:
+//! the projector sits right of the camera, so shadows fall left of their occluders (SPEC §1). The
+//! row then shows a hole on a wall, lit wall on both sides, and no occluder for eqs. (4)–(5) to
+//! find before the border: the scanline leaves it OTHER. So would a dark stripe or a gap in the
+//! wall, but the RGB camera tells them apart: a projector shadow is lit by the room and shows the
+//! wall's colour. A hole is such a shadow when
+//!
+//! - the same surface bounds it on both sides, and nothing nearer stands between it and the
+//!   border (or the sensor's dead band along it): the occluder's left edge, `shift` pixels right of
+//!   the shadow's start (eq. 4), lies past what the camera sees, with `shift` at most the widest
+//!   shadow on that surface;
+//! - every RGB column under it shows the colour of the wall beside it (or, where the RGB camera
+//!   sees the occluder itself over the shadow's right end, a first half of them does), and no
+//!   occluder without depth shows in the RGB image left of it (then the hole is that occluder);
+//! - six of the eight rows around it hold the same hole (an occluder is a solid; the sensor's
+//!   dropouts are not).
+
+use super::{
+    hole_span, hue_dist, ColourSplit, COLOUR_STEP, MAX_ISLAND, SAME_SURFACE, SIDE, SIDES_AGREE,
+};
+use crate::labels::{HEIGHT, NO_DEPTH, WIDTH};
+
+/// Narrowest hole considered (pixels): single-pixel holes are speckle.
+const MIN_WIDTH: usize = 2;
+/// Rows looked at on each side of the hole's row.
+const ROWS_AROUND: usize = 4;
+/// Of those (twice [`ROWS_AROUND`]), how many must hold the same hole: a thin occluder's shadow
+/// runs on over many rows, the sensor's dropouts (blobs a few pixels across, up to eight rows
+/// tall on the real frame) change shape from row to row.
+const ROWS_ALIKE: usize = 6;
+/// How far (pixels) the ends of the same hole may move from row to row: the sensor's widening
+/// moves a shadow's ends by 0–3 px; dropouts on a far or dark surface come and go.
+const ENDS_AGREE: usize = 2;
+
+impl ColourSplit {
+    /// True when the hole `[a, b)` of row `v` is the detached shadow of an occluder beyond the
+    /// image's right border (see the module's docs).
+    pub(super) fn off_image_detached(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        v: usize,
+        (a, b): (usize, usize),
+    ) -> bool {
+        let row = &raw[v * WIDTH..(v + 1) * WIDTH];
+        if a < SIDE || b - a < MIN_WIDTH || b >= WIDTH {
+            return false;
+        }
+        let (left, right) = (row[a - 1], row[b]);
+        let bg = left.max(right);
+        // Eq. (4): the occluder starts `shift` right of the shadow's start, past what the camera
+        // sees (`edge`), with `shift` at most the widest shadow on this wall; and the shadow is
+        // narrower than `shift` (detached).
+        let widest = self.widest(bg);
+        // Where the camera stops seeing at the latest: the border, or the dead band along it.
+        let seen_to = self.masks[v].prev_valid_end(WIDTH);
+        if seen_to > a + widest
+            || b - a >= widest
+            || (self.disp(left) - self.disp(right)).abs() > SAME_SURFACE
+        {
+            return false;
+        }
+        let Some(edge) = self.lit_to_border(row, b, a + widest) else {
+            return false;
+        };
+        let around = (1..=ROWS_AROUND).flat_map(|k| [v.wrapping_sub(k), v + k]);
+        let alike = around
+            .filter(|&w| w < HEIGHT && self.same_hole_in(raw, w, (a, b)))
+            .count();
+        if alike < ROWS_ALIKE {
+            return false;
+        }
+        self.shows_the_wall(rgb, v, (a, b), bg, edge)
+            && self.nothing_seen_before(row, rgb, v, a, bg)
+    }
+
+    /// True when the RGB camera sees the wall's colour (read just left of the hole) over the
+    /// wall left of the hole `[a, …)` of `row` (`v`), as far as the nearest measurable
+    /// occluder's image moves against the wall (a third of its shift, as above). Something else
+    /// there, where the IR camera sees wall, is the hole itself seen by the RGB camera: an
+    /// occluder without depth (black, glossy), not its shadow.
+    fn nothing_seen_before(&self, row: &[u16], rgb: &[u8], v: usize, a: usize, bg: u16) -> bool {
+        let Some(wall) = self.mean_colour(rgb, v, a - SIDE..a, bg) else {
+            return false;
+        };
+        // Twice the colour split's step: a textured or shaded wall drifts by nearly one step
+        // over the stretch, a black or glossy occluder differs by several.
+        let step = 2 * self.dimmed(COLOUR_STEP, wall);
+        let d_bg = self.disp(bg);
+        let from = a.saturating_sub(self.widest(bg) / 3 + SIDE);
+        let mut seen = 0;
+        for (u, &r) in row.iter().enumerate().take(a).skip(from) {
+            if r == NO_DEPTH || (self.disp(r) - d_bg).abs() > SAME_SURFACE {
+                continue;
+            }
+            let (x, y) = self.project(u as f64, v, bg);
+            match super::rgb_mean3(rgb, x, y) {
+                Some(p) if hue_dist(p, wall) < step => seen += 1,
+                _ => return false,
+            }
+        }
+        2 * seen >= a - from
+    }
+
+    /// True when row `w` holds a hole whose ends lie within [`ENDS_AGREE`] of `a` and `b`.
+    fn same_hole_in(&self, raw: &[u16], w: usize, (a, b): (usize, usize)) -> bool {
+        let row = &raw[w * WIDTH..(w + 1) * WIDTH];
+        let Some(u) = (a..b).find(|&u| row[u] == NO_DEPTH) else {
+            return false;
+        };
+        let (a2, b2) = hole_span(&self.masks[w], row, u);
+        a2.abs_diff(a) <= ENDS_AGREE && b2.abs_diff(b) <= ENDS_AGREE
+    }
+
+    /// Where the lit surface right of a hole ending at `b` stops, if by column `limit`: the
+    /// border, or the start of a hole running into it (the sensor's dead band). None when a
+    /// nearer surface or a wider hole comes first: then something the camera sees stands there.
+    fn lit_to_border(&self, row: &[u16], b: usize, limit: usize) -> Option<usize> {
+        let mut last = self.disp(row[b]);
+        let mut u = b + 1;
+        while u < WIDTH {
+            if u > limit {
+                return None;
+            }
+            if row[u] == NO_DEPTH {
+                let end = u + row[u..].iter().take_while(|&&r| r == NO_DEPTH).count();
+                if end == WIDTH {
+                    return (u <= limit).then_some(u);
+                }
+                if end - u > MAX_ISLAND {
+                    return None;
+                }
+                u = end;
+                continue;
+            }
+            let d = self.disp(row[u]);
+            if d > last + SAME_SURFACE {
+                return None;
+            }
+            last = d;
+            u += 1;
+        }
+        (WIDTH <= limit).then_some(WIDTH)
+    }
+
+    /// True when the RGB columns under the hole `[a, b)` of row `v` (at the wall's raw value
+    /// `bg`) show the wall's colour, read left of the hole: all of them, when the wall right of
+    /// the hole (up to `edge`) shows it too; or, when something else stands before the wall
+    /// there, a first part of at least half the hole, then that something to the hole's end:
+    /// against the wall, the RGB camera sees an occluder a third of its shift left of where the
+    /// projector's shadow puts it (it sits a third of the way from the IR camera to the
+    /// projector), over a wide shadow's right end.
+    fn shows_the_wall(
+        &self,
+        rgb: &[u8],
+        v: usize,
+        (a, b): (usize, usize),
+        bg: u16,
+        edge: usize,
+    ) -> bool {
+        let side = |us: std::ops::Range<usize>| self.mean_colour(rgb, v, us, bg);
+        let (Some(wall), Some(right)) = (side(a - SIDE..a), side(b..(b + SIDE).min(edge))) else {
+            return false;
+        };
+        let step = self.dimmed(COLOUR_STEP, wall);
+        let is_wall = |u: usize| {
+            let (x, y) = self.project(u as f64, v, bg);
+            super::rgb_mean3(rgb, x, y).map(|p| hue_dist(p, wall) < step)
+        };
+        if hue_dist(right, wall) < self.dimmed(SIDES_AGREE, wall) {
+            return (a..b).all(|u| is_wall(u) == Some(true));
+        }
+        if hue_dist(right, wall) < step {
+            return false;
+        }
+        let seen = (a..b).take_while(|&u| is_wall(u) == Some(true)).count();
+        2 * seen >= b - a && (a + seen..b).all(|u| is_wall(u) == Some(false))
+    }
+}
