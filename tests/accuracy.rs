@@ -390,6 +390,56 @@ fn black_stripe_where_such_a_shadow_would_fall_stays_other() {
 }
 
 #[test]
+fn gap_between_a_panel_and_a_rod_onto_a_wall_beyond_range_is_no_shadow() {
+    // A panel at 2 m ends at x = 0 (column cx = 313.0); a 2 cm rod at 1.6 m stands with its left
+    // edge at x = 0.01785 m (column 313.0 + 0.01785·fx/1.6 = 319.5); behind both, a wall at 5 m,
+    // beyond the sensor's range. The gap between them, 6.5 px, fits eq. (3) for Sa = panel and
+    // Sb = rod: f·b·(1/1.6 − 1/2) = 5.5 px. But the rod's shadow on the panel's plane,
+    // 313.0..320.4 (its columns shifted by those 5.5 px), lies past the panel's edge, on the
+    // far wall, which returns no depth lit or not: OTHER. The RGB camera sees that far wall
+    // through the gap, as right of the rod, not the panel.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::new("panel and rod before a wall beyond range");
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(5.0),
+        umbra::synth::Material::matte([0.2, 0.35, 0.75]),
+    );
+    scene.push(
+        "panel",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(-1.0, 0.0, 2.05),
+            half: umbra::synth::V3::new(1.0, 3.0, 0.05),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::matte([0.85, 0.6, 0.4]),
+    );
+    push_grey_rod(&mut scene, 0.02785, 1.6, 0.01);
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 6);
+    let depth_only = classify(&calib, &frame);
+    let out = classify_rgb(&calib, &frame);
+    let gap = |labels: &[u8], v: usize, code: u8| {
+        (310..322)
+            .filter(|&u| labels[v * WIDTH + u] == code)
+            .count()
+    };
+    let rows = 20..HEIGHT - 20;
+    for v in rows.clone() {
+        assert_eq!(gap(&frame.ir_labels, v, ATTACHED), 0, "row {v}: the scene");
+        assert!(
+            gap(&frame.ir_labels, v, OTHER) >= 5,
+            "row {v}: the scene's gap"
+        );
+        assert_eq!(gap(&out.ir_labels, v, ATTACHED), 0, "row {v}: with colour");
+    }
+    // The trap is real: from depth alone the gap is an attached shadow in most rows.
+    let fooled = rows
+        .filter(|&v| gap(&depth_only.ir_labels, v, ATTACHED) >= 5)
+        .count();
+    assert!(fooled > 300, "depth alone calls {fooled} rows attached");
+}
+
+#[test]
 fn black_rod_without_depth_still_casts_a_detached_shadow() {
     // The same rod geometry, but black: the sensor measures nothing on it, so its hole and its
     // shadow are two holes on the wall. Hand geometry: the 3 cm rod at 1.2 m spans

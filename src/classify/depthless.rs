@@ -33,6 +33,7 @@ use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
 mod offimage;
 mod pairs;
+mod unlike;
 
 /// Narrowest merged hole considered (pixels): a shadow and an occluder of 5 px each. Narrower
 /// ones are mostly the speckle of dark clutter on real frames, and cost time for little: 8, 7 or
@@ -315,6 +316,9 @@ impl ColourSplit {
                 };
                 first = false;
                 if labels[i] != OTHER {
+                    if labels[i] == ATTACHED {
+                        self.unlike_its_surface(raw, rgb, labels, filled, v, (a, b));
+                    }
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }

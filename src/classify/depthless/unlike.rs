@@ -1,0 +1,133 @@
+//! Attached shadows whose hole shows, in the RGB image, a surface that returns no depth.
+//!
+//! The scanline calls a hole attached when its width fits eq. (3) between Sa and Sb. A gap
+//! between two objects onto a surface that returns no depth (a wall beyond range, a black one)
+//! can fit it too: a rod standing just right of a panel's edge, or two rods before a far wall. A
+//! projector shadow is lit by the room, so the RGB camera sees the surface it lies on there;
+//! through such a gap it sees the far surface. The hole is OTHER where its colour (one colour
+//! over the first half of it) is plainly not Sa's, nor that of any pixel along Sa, but is that of
+//! a hole beyond Sa or Sb, a few pixels away, that the scanline left OTHER (the far surface
+//! showing on the other side of a thin object). Unlike Sa's colour alone is no reason: a shadow
+//! across a corner lies on the next surface, and one beside a thin Sa on the wall behind it;
+//! and the RGB camera may see an occluder without depth over Sa's last pixels.
+
+use super::{hue_dist, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE};
+use crate::labels::{ATTACHED, NO_DEPTH, OTHER, WIDTH};
+
+/// Narrowest hole read (pixels): the RGB camera sees a third of a shadow's width hidden behind
+/// its occluder, and a column or two of what is left is an edge's blend.
+const MIN_WIDTH: usize = 6;
+/// Widest object (pixels) across which a hole beyond it is looked for.
+const THIN: usize = 24;
+
+impl ColourSplit {
+    /// Relabels the attached pixels of the hole `[a, b)` of row `v` OTHER when the RGB camera sees
+    /// a surface without depth over it, not Sa's (see the module's docs). True when it did.
+    pub(super) fn unlike_its_surface(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        labels: &mut [u8],
+        filled: &[u16],
+        v: usize,
+        (a, b): (usize, usize),
+    ) -> bool {
+        let row = v * WIDTH;
+        if a < SIDE || b - a < MIN_WIDTH || b >= WIDTH {
+            return false;
+        }
+        let sa = raw[row + a - 1];
+        // Only where the scanline put the shadow on Sa's own surface (not on a background hidden
+        // behind a thin Sa), read on Sa's pixels.
+        let on_sa = |r: u16| r != NO_DEPTH && (self.disp(r) - self.disp(sa)).abs() <= SAME_SURFACE;
+        if !on_sa(filled[row + a]) || !(a - SIDE..a).all(|u| on_sa(raw[row + u])) {
+            return false;
+        }
+        let Some(surface) = self.mean_colour(rgb, v, a - SIDE..a, sa) else {
+            return false;
+        };
+        // The RGB camera, a third of the way to the projector, sees the occluder over the
+        // shadow's last third: only the first half is read, less a column of blend at its start,
+        // in two parts that must agree (one far surface; not a black object beside a shadow).
+        let q = (b - a) / 4;
+        let part = |us: std::ops::Range<usize>| self.mean_colour(rgb, v, us, sa);
+        let (Some(first), Some(second)) = (part(a + 1..a + 1 + q), part(a + 1 + q..a + 1 + 2 * q))
+        else {
+            return false;
+        };
+        if hue_dist(first, second) >= self.dimmed(COLOUR_STEP, first) {
+            return false;
+        }
+        let hole = std::array::from_fn(|k| (first[k] + second[k]) / 2);
+        let unlike_sa = |c: [i32; 3]| hue_dist(c, surface) >= 2 * self.dimmed(COLOUR_STEP, surface);
+        if !unlike_sa(hole) {
+            return false;
+        }
+        // Nor anywhere along Sa (the RGB camera may see an occluder without depth over Sa's
+        // last pixels, a third of its shift left of its shadow). The run's end pixels are left
+        // out: the RGB camera may see past a thin Sa's edge there.
+        let run = (1..=THIN)
+            .map_while(|k| a.checked_sub(k))
+            .take_while(|&u| on_sa(raw[row + u]))
+            .count();
+        let along_sa = (a + 1 - run..a - 1).any(|u| {
+            let (x, y) = self.project(u as f64, v, sa);
+            super::rgb_at(rgb, x, y)
+                .is_some_and(|p| hue_dist(p, hole) < self.dimmed(COLOUR_STEP, hole))
+        });
+        if along_sa {
+            return false;
+        }
+        // The far surface: unlike Sa too (a shadow beyond Sa shows Sa's colour), and like the hole.
+        let beyond =
+            |from: usize, step: isize| self.hole_beyond(raw, rgb, labels, v, from, step, sa);
+        let far = [beyond(a - 1, -1), beyond(b, 1)];
+        if !far
+            .into_iter()
+            .flatten()
+            .any(|c| unlike_sa(c) && hue_dist(hole, c) < self.dimmed(COLOUR_STEP, c))
+        {
+            return false;
+        }
+        for l in &mut labels[row + a..row + b] {
+            if *l == ATTACHED {
+                *l = OTHER;
+            }
+        }
+        true
+    }
+
+    /// The colour (at raw value `at`) of the OTHER hole just beyond the valid run of row `v` that
+    /// starts at `from` and runs in direction `step`, if that run is at most [`THIN`] pixels
+    /// wide and the hole at least [`SIDE`].
+    #[allow(clippy::too_many_arguments)]
+    fn hole_beyond(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        labels: &[u8],
+        v: usize,
+        from: usize,
+        step: isize,
+        at: u16,
+    ) -> Option<[i32; 3]> {
+        let row = v * WIDTH;
+        let px = |k: usize| {
+            from.checked_add_signed(step * k as isize)
+                .filter(|&u| u < WIDTH)
+        };
+        let run = (0..=THIN)
+            .take_while(|&k| px(k).is_some_and(|u| raw[row + u] != NO_DEPTH))
+            .count();
+        if run == 0 || run > THIN {
+            return None;
+        }
+        let (near, far) = (px(run)?, px(run + SIDE - 1)?);
+        let us = near.min(far)..near.max(far) + 1;
+        let other = |u: usize| raw[row + u] == NO_DEPTH && labels[row + u] == OTHER;
+        if !us.clone().all(other) {
+            return None;
+        }
+        self.mean_colour(rgb, v, us, at)
+    }
+}
