@@ -43,6 +43,15 @@ impl ColourSplit {
         if !on_sa(filled[row + a]) || !(a - SIDE..a).all(|u| on_sa(raw[row + u])) {
             return false;
         }
+        // Depth and labels first (most attached holes have no such hole beyond): the RGB image
+        // is read only where the far surface may show.
+        let far = [
+            self.hole_beyond(labels, v, a - 1, true),
+            self.hole_beyond(labels, v, b, false),
+        ];
+        if far.iter().all(Option::is_none) {
+            return false;
+        }
         let Some(surface) = self.mean_colour(rgb, v, a - SIDE..a, sa) else {
             return false;
         };
@@ -79,12 +88,10 @@ impl ColourSplit {
             return false;
         }
         // The far surface: unlike Sa too (a shadow beyond Sa shows Sa's colour), and like the hole.
-        let beyond =
-            |from: usize, step: isize| self.hole_beyond(raw, rgb, labels, v, from, step, sa);
-        let far = [beyond(a - 1, -1), beyond(b, 1)];
         if !far
             .into_iter()
             .flatten()
+            .filter_map(|us| self.mean_colour(rgb, v, us, sa))
             .any(|c| unlike_sa(c) && hue_dist(hole, c) < self.dimmed(COLOUR_STEP, c))
         {
             return false;
@@ -97,37 +104,27 @@ impl ColourSplit {
         true
     }
 
-    /// The colour (at raw value `at`) of the OTHER hole just beyond the valid run of row `v` that
-    /// starts at `from` and runs in direction `step`, if that run is at most [`THIN`] pixels
-    /// wide and the hole at least [`SIDE`].
-    #[allow(clippy::too_many_arguments)]
+    /// The [`SIDE`] pixels of the OTHER hole next to the valid run of row `v` through column
+    /// `from`, on its left (`left`) or right, if that run is at most [`THIN`] pixels wide.
     fn hole_beyond(
         &self,
-        raw: &[u16],
-        rgb: &[u8],
         labels: &[u8],
         v: usize,
         from: usize,
-        step: isize,
-        at: u16,
-    ) -> Option<[i32; 3]> {
-        let row = v * WIDTH;
-        let px = |k: usize| {
-            from.checked_add_signed(step * k as isize)
-                .filter(|&u| u < WIDTH)
+        left: bool,
+    ) -> Option<std::ops::Range<usize>> {
+        let mask = &self.masks[v];
+        // The hole's pixels next to the run, read off the row's bitmap.
+        let us = if left {
+            let start = mask.prev_hole_end(from + 1);
+            let hole = mask.prev_valid_end(start);
+            (from + 1 - start <= THIN && start >= hole + SIDE).then(|| start - SIDE..start)?
+        } else {
+            let end = mask.next_hole(from);
+            let hole = mask.next_valid(end);
+            (end - from <= THIN && hole >= end + SIDE).then(|| end..end + SIDE)?
         };
-        let run = (0..=THIN)
-            .take_while(|&k| px(k).is_some_and(|u| raw[row + u] != NO_DEPTH))
-            .count();
-        if run == 0 || run > THIN {
-            return None;
-        }
-        let (near, far) = (px(run)?, px(run + SIDE - 1)?);
-        let us = near.min(far)..near.max(far) + 1;
-        let other = |u: usize| raw[row + u] == NO_DEPTH && labels[row + u] == OTHER;
-        if !us.clone().all(other) {
-            return None;
-        }
-        self.mean_colour(rgb, v, us, at)
+        let row = &labels[v * WIDTH..(v + 1) * WIDTH];
+        row[us.clone()].iter().all(|&l| l == OTHER).then_some(us)
     }
 }
