@@ -440,6 +440,55 @@ fn gap_between_a_panel_and_a_rod_onto_a_wall_beyond_range_is_no_shadow() {
 }
 
 #[test]
+fn black_box_at_the_left_border_behind_a_rod_is_no_shadow_of_it() {
+    // A black box (front face at 2 m, x < −0.35 m, below y = 0.0054 m: rows from 240 down)
+    // before a wall at 3 m, and a 2 cm grey rod at 1.2 m standing on it from row 251 down, its
+    // left edge at x = −0.5994 m: column cx + fx·(−0.5994/1.2) = 22.0. Left of the rod, the box
+    // runs off the image: a hole from the border to column 22, as wide as the rod's attached
+    // shadow on the wall seen above it would be, f·b·(1/1.2 − 1/3) = 21.8 px. But the box
+    // returns no depth, lit or not: OTHER. The RGB camera sees the black box there, and right of
+    // the rod, not the wall and not the rod.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::rod_before_wall(0.0, 1.0, 0.01, 3.0);
+    scene.objects.pop();
+    scene.push(
+        "box",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(-0.925, 0.7527, 2.05),
+            half: umbra::synth::V3::new(0.575, 0.7473, 0.05),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::black(),
+    );
+    scene.push(
+        "rod",
+        umbra::synth::Shape::Cylinder {
+            centre: umbra::synth::V3::new(-0.5894, 0.36, 1.2),
+            axis: umbra::synth::V3::new(0.0, 1.0, 0.0),
+            radius: 0.01,
+            half_len: 0.3,
+        },
+        umbra::synth::Material::matte([0.6, 0.6, 0.65]),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 7);
+    let depth_only = classify(&calib, &frame);
+    let out = classify_rgb(&calib, &frame);
+    let left = |labels: &[u8], v: usize, code: u8| {
+        (0..20).filter(|&u| labels[v * WIDTH + u] == code).count()
+    };
+    // (The colour split reads no row without one below it: the last is left out.)
+    let rows = 260..HEIGHT - 1;
+    for v in rows.clone() {
+        assert_eq!(left(&frame.ir_labels, v, OTHER), 20, "row {v}: the scene");
+        assert_eq!(left(&out.ir_labels, v, ATTACHED), 0, "row {v}: with colour");
+    }
+    let fooled = rows
+        .filter(|&v| left(&depth_only.ir_labels, v, ATTACHED) > 10)
+        .count();
+    assert!(fooled > 150, "depth alone calls {fooled} rows attached");
+}
+
+#[test]
 fn black_rod_without_depth_still_casts_a_detached_shadow() {
     // The same rod geometry, but black: the sensor measures nothing on it, so its hole and its
     // shadow are two holes on the wall. Hand geometry: the 3 cm rod at 1.2 m spans

@@ -33,7 +33,13 @@ impl ColourSplit {
         (a, b): (usize, usize),
     ) -> bool {
         let row = v * WIDTH;
-        if a < SIDE || b - a < MIN_WIDTH || b >= WIDTH {
+        if b - a < MIN_WIDTH || b >= WIDTH {
+            return false;
+        }
+        if a == 0 {
+            return self.left_border_unlike(raw, rgb, labels, filled, v, b);
+        }
+        if a < SIDE {
             return false;
         }
         let sa = raw[row + a - 1];
@@ -96,11 +102,51 @@ impl ColourSplit {
         {
             return false;
         }
-        for l in &mut labels[row + a..row + b] {
-            if *l == ATTACHED {
-                *l = OTHER;
-            }
+        relabel(&mut labels[row + a..row + b]);
+        true
+    }
+
+    /// [`ColourSplit::unlike_its_surface`] for a hole `[0, b)` at the left border, which has no
+    /// Sa: the scanline took its background from the rows above. It is OTHER when it shows one
+    /// colour, that of an OTHER hole just beyond a thin Sb, and not Sb's own (which the RGB
+    /// camera may see over a shadow's right part).
+    fn left_border_unlike(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        labels: &mut [u8],
+        filled: &[u16],
+        v: usize,
+        b: usize,
+    ) -> bool {
+        let row = v * WIDTH;
+        let (bg, sb) = (filled[row], raw[row + b]);
+        if bg == NO_DEPTH || sb == NO_DEPTH {
+            return false;
         }
+        let Some(far) = self.hole_beyond(labels, v, b, false) else {
+            return false;
+        };
+        let q = b / 4;
+        let part = |us: std::ops::Range<usize>| self.mean_colour(rgb, v, us, bg);
+        let (Some(first), Some(second)) = (part(1..1 + q), part(1 + q..1 + 2 * q)) else {
+            return false;
+        };
+        let hole = std::array::from_fn(|k| (first[k] + second[k]) / 2);
+        let (Some(far), Some(occluder)) = (
+            self.mean_colour(rgb, v, far, bg),
+            self.mean_colour(rgb, v, b..b + 2, sb),
+        ) else {
+            return false;
+        };
+        let step = self.dimmed(COLOUR_STEP, hole);
+        if hue_dist(first, second) >= step
+            || hue_dist(hole, far) >= step
+            || hue_dist(hole, occluder) < 2 * step
+        {
+            return false;
+        }
+        relabel(&mut labels[row..row + b]);
         true
     }
 
@@ -126,5 +172,14 @@ impl ColourSplit {
         };
         let row = &labels[v * WIDTH..(v + 1) * WIDTH];
         row[us.clone()].iter().all(|&l| l == OTHER).then_some(us)
+    }
+}
+
+/// ATTACHED pixels of `labels` become OTHER.
+fn relabel(labels: &mut [u8]) {
+    for l in labels {
+        if *l == ATTACHED {
+            *l = OTHER;
+        }
     }
 }
