@@ -14,9 +14,10 @@
 use super::{hue_dist, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE};
 use crate::labels::{ATTACHED, NO_DEPTH, OTHER, WIDTH};
 
-/// Narrowest hole read (pixels): the RGB camera sees a third of a shadow's width hidden behind
-/// its occluder, and a column or two of what is left is an edge's blend.
-const MIN_WIDTH: usize = 6;
+/// Narrowest hole read (pixels): two columns of its first half, past the first (an edge's
+/// blend), are compared. At 6 rather than 4, a 4 px gap between a panel's edge and a rod before a
+/// wall beyond range stayed attached (one suite of the other simulator: attached F1 −0.005).
+const MIN_WIDTH: usize = 4;
 /// Widest object (pixels) across which a hole beyond it is looked for.
 const THIN: usize = 24;
 
