@@ -307,6 +307,11 @@ impl ColourSplit {
             // Past the row's first hole, each visit starts after a span's end, where more than
             // MAX_ISLAND valid pixels precede it: its span starts at `u`.
             let mut first = true;
+            // Holes further than the widest shadow from where the camera stops seeing (the
+            // border, or the dead band along it) cannot be an off-image occluder's shadow.
+            let off_image_from = mask
+                .prev_valid_end(WIDTH)
+                .saturating_sub(self.max_disp as usize);
             while u < WIDTH - SIDE {
                 let i = v * WIDTH + u;
                 let (a, b) = if first {
@@ -326,7 +331,7 @@ impl ColourSplit {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
-                if self.off_image_detached(raw, rgb, v, (a, b)) {
+                if a >= off_image_from && self.off_image_detached(raw, rgb, v, (a, b)) {
                     let i = v * WIDTH;
                     for (l, &r) in labels[i + a..i + b].iter_mut().zip(&raw[i + a..i + b]) {
                         if r == NO_DEPTH && *l == OTHER {

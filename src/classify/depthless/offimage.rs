@@ -57,7 +57,8 @@ impl ColourSplit {
         if b - a >= widest || (self.disp(left) - self.disp(right)).abs() > SAME_SURFACE {
             return false;
         }
-        // Where the camera stops seeing at the latest: the border, or the dead band along it.
+        // Where the camera stops seeing at the latest: the border, or the dead band along it
+        // (the caller skips holes further than any shadow's width from it).
         if self.masks[v].prev_valid_end(WIDTH) > a + widest {
             return false;
         }
