@@ -62,19 +62,9 @@ impl ColourSplit {
         let Some(surface) = self.mean_colour(rgb, v, a - SIDE..a, sa) else {
             return false;
         };
-        // The RGB camera, a third of the way to the projector, sees the occluder over the
-        // shadow's last third: only the first half is read, less a column of blend at its start,
-        // in two parts that must agree (one far surface; not a black object beside a shadow).
-        let q = (b - a) / 4;
-        let part = |us: std::ops::Range<usize>| self.mean_colour(rgb, v, us, sa);
-        let (Some(first), Some(second)) = (part(a + 1..a + 1 + q), part(a + 1 + q..a + 1 + 2 * q))
-        else {
+        let Some(hole) = self.one_colour(rgb, v, (a, b), sa) else {
             return false;
         };
-        if hue_dist(first, second) >= self.dimmed(COLOUR_STEP, first) {
-            return false;
-        }
-        let hole = std::array::from_fn(|k| (first[k] + second[k]) / 2);
         let unlike_sa = |c: [i32; 3]| hue_dist(c, surface) >= 2 * self.dimmed(COLOUR_STEP, surface);
         if !unlike_sa(hole) {
             return false;
@@ -128,12 +118,9 @@ impl ColourSplit {
         let Some(far) = self.hole_beyond(labels, v, b, false) else {
             return false;
         };
-        let q = b / 4;
-        let part = |us: std::ops::Range<usize>| self.mean_colour(rgb, v, us, bg);
-        let (Some(first), Some(second)) = (part(1..1 + q), part(1 + q..1 + 2 * q)) else {
+        let Some(hole) = self.one_colour(rgb, v, (0, b), bg) else {
             return false;
         };
-        let hole = std::array::from_fn(|k| (first[k] + second[k]) / 2);
         let (Some(far), Some(occluder)) = (
             self.mean_colour(rgb, v, far, bg),
             self.mean_colour(rgb, v, b..b + 2, sb),
@@ -141,14 +128,30 @@ impl ColourSplit {
             return false;
         };
         let step = self.dimmed(COLOUR_STEP, hole);
-        if hue_dist(first, second) >= step
-            || hue_dist(hole, far) >= step
-            || hue_dist(hole, occluder) < 2 * step
-        {
+        if hue_dist(hole, far) >= step || hue_dist(hole, occluder) < 2 * step {
             return false;
         }
         relabel(&mut labels[row..row + b]);
         true
+    }
+
+    /// The colour the RGB camera sees over the first half of the hole `[a, b)` of row `v` (at
+    /// raw value `at`), if it is one: the RGB camera, a third of the way to the projector, sees
+    /// an occluder over a shadow's last third, so only the first half is read, less a column of
+    /// blend at its start, in two parts that must agree (one far surface; not a black object
+    /// beside a shadow).
+    fn one_colour(
+        &self,
+        rgb: &[u8],
+        v: usize,
+        (a, b): (usize, usize),
+        at: u16,
+    ) -> Option<[i32; 3]> {
+        let q = (b - a) / 4;
+        let part = |us: std::ops::Range<usize>| self.mean_colour(rgb, v, us, at);
+        let (first, second) = (part(a + 1..a + 1 + q)?, part(a + 1 + q..a + 1 + 2 * q)?);
+        (hue_dist(first, second) < self.dimmed(COLOUR_STEP, first))
+            .then(|| std::array::from_fn(|k| (first[k] + second[k]) / 2))
     }
 
     /// The [`SIDE`] pixels of the OTHER hole next to the valid run of row `v` through column
