@@ -1038,6 +1038,53 @@ fn black_box_shadow_is_split_off_its_hole_by_colour() {
 }
 
 #[test]
+fn narrow_black_box_before_a_wall_lit_unevenly_has_its_shadow_split_off() {
+    // A black box 5 cm wide (x = −0.025..0.025 m, front face at 1 m) before a wall at 3 m whose
+    // two halves meet behind it, the right half in three quarters of the left's light (one
+    // colour, darker). By hand: the box spans columns cx ± 0.025·fx = 298.5..327.6, its shadow
+    // f·b·(1/1 − 1/3) = 29.1 px left of it, 269.3..298.5: one hole of 58 px, narrower than the
+    // widest shadow on that wall, whose two sides differ in brightness only.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::new("narrow black box before an unevenly lit wall");
+    let green = [0.4, 0.6, 0.3];
+    for (x, light) in [(-1.5, 1.0), (1.5, 0.75)] {
+        scene.push(
+            "wall",
+            umbra::synth::Shape::Box {
+                centre: umbra::synth::V3::new(x, 0.0, 3.05),
+                half: umbra::synth::V3::new(1.5, 3.0, 0.05),
+                yaw: 0.0,
+            },
+            umbra::synth::Material::matte(green.map(|c| c * light)),
+        );
+    }
+    scene.push(
+        "box",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(0.0, 0.0, 1.1),
+            half: umbra::synth::V3::new(0.025, 0.25, 0.1),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::black(),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 8);
+    let out = classify_rgb(&calib, &frame);
+    let w = calib.fb() * (1.0 - 1.0 / 3.0);
+    let (box_rows, rows) = attached_rows(&frame, &out.ir_labels, |v, n, truth| {
+        assert!(
+            (truth as f64 - w).abs() <= 1.5,
+            "row {v}: the scene's {truth}"
+        );
+        assert!(
+            n == 0 || (n as f64 - w).abs() <= 2.5,
+            "row {v}: {n} attached px, hand-computed {w:.2}"
+        );
+    });
+    assert!(box_rows > 250, "the box spans {box_rows} rows");
+    assert!(10 * rows >= 9 * box_rows, "{rows} of {box_rows} rows split");
+}
+
+#[test]
 fn black_box_shadow_is_split_off_whole_when_the_sensor_widens_shadows() {
     // The hand-computed black box (front face at 1 m, wall at 3 m: a shadow of
     // f·b·(1/1 − 1/3) = 29.1 px), and a grey rod (r = 5 cm at x = −0.6 m, z = 1.5 m) whose

@@ -68,6 +68,9 @@ const COLOUR_STEP: u32 = 90;
 const OCCLUDER_STEP: u32 = 90;
 /// The two sides' background colours may differ by at most this much.
 const SIDES_AGREE: u32 = 68;
+/// Chromaticity difference (thousandths, summed over R, G, B) within which the two sides of a
+/// hole are one surface in different light.
+const CHROMA_AGREE: i32 = 20;
 /// Valid runs this short inside a hole are noise, stepped over.
 const MAX_ISLAND: usize = 2;
 /// The occluder's left edge (hole start plus shadow width) may move by this much (pixels) from
@@ -352,8 +355,18 @@ impl ColourSplit {
                                 return Some((c, s));
                             }
                             // A hole too wide for one shadow whose occluder stops short of
-                            // its end: read from the left only.
+                            // its end, or whose sides are one surface in another light (a
+                            // shaded or patterned wall): read from the left only. The left
+                            // side's colour is then the background only if the RGB camera sees
+                            // it on over the wall further left: over a black occluder's own
+                            // hole it sees that occluder there.
                             let c = self.opened(c)?;
+                            if c.b - c.a <= self.widest(c.bg)
+                                && !(self.sides_differ_in_light(rgb, v, (c.a, b), c.bg)
+                                    && self.nothing_seen_before(row, rgb, v, c.a, c.bg))
+                            {
+                                return None;
+                            }
                             Some((c, self.agreed_split(raw, rgb, labels, v, c, &mut prefix)?))
                         })
                     })
@@ -637,6 +650,22 @@ impl ColourSplit {
         (alike || straight).then_some(s)
     }
 
+    /// True when the background beside the hole `[a, b)` of row `v` (at raw value `bg`) shows
+    /// one chromaticity on both sides, in different brightness: one surface, lit or patterned
+    /// differently, not two.
+    fn sides_differ_in_light(&self, rgb: &[u8], v: usize, (a, b): (usize, usize), bg: u16) -> bool {
+        let side = |us: std::ops::Range<usize>| self.mean_colour(rgb, v, us, bg);
+        let (Some(l), Some(r)) = (side(a - SIDE..a), side(b..(b + SIDE).min(WIDTH))) else {
+            return false;
+        };
+        let (sl, sr) = (l.iter().sum::<i32>().max(1), r.iter().sum::<i32>().max(1));
+        // Chromaticity in thousandths.
+        let off: i32 = (0..3)
+            .map(|k| (1000 * l[k] / sl - 1000 * r[k] / sr).abs())
+            .sum();
+        off <= CHROMA_AGREE
+    }
+
     /// The closed candidate `c` read as an open one, when it is wider than any one shadow on its
     /// background can be (so an occluder stands in it). The closed layout wants that occluder to
     /// fill the hole up to the background on the right, which fails where something else runs
@@ -644,7 +673,7 @@ impl ColourSplit {
     /// only the shadow and a window of occluder after it must show.
     fn opened(&self, c: Candidate) -> Option<Candidate> {
         let widest = self.widest(c.bg);
-        if !c.closed || c.behind || c.b - c.a <= widest {
+        if !c.closed || c.behind {
             return None;
         }
         Some(Candidate {

@@ -85,7 +85,14 @@ impl ColourSplit {
     /// occluder's image moves against the wall (a third of its shift, as above). Something else
     /// there, where the IR camera sees wall, is the hole itself seen by the RGB camera: an
     /// occluder without depth (black, glossy), not its shadow.
-    fn nothing_seen_before(&self, row: &[u16], rgb: &[u8], v: usize, a: usize, bg: u16) -> bool {
+    pub(super) fn nothing_seen_before(
+        &self,
+        row: &[u16],
+        rgb: &[u8],
+        v: usize,
+        a: usize,
+        bg: u16,
+    ) -> bool {
         let Some(wall) = self.mean_colour(rgb, v, a - SIDE..a, bg) else {
             return false;
         };
