@@ -654,8 +654,12 @@ impl ColourSplit {
     /// one chromaticity on both sides, in different brightness: one surface, lit or patterned
     /// differently, not two.
     fn sides_differ_in_light(&self, rgb: &[u8], v: usize, (a, b): (usize, usize), bg: u16) -> bool {
-        let side = |us: std::ops::Range<usize>| self.mean_colour(rgb, v, us, bg);
-        let (Some(l), Some(r)) = (side(a - SIDE..a), side(b..(b + SIDE).min(WIDTH))) else {
+        // The split's own probes beside the hole (three RGB columns each).
+        let probe = |u: usize| {
+            let (x, y) = self.project(u as f64, v, bg);
+            rgb_mean3(rgb, x, y)
+        };
+        let (Some(l), Some(r)) = (probe(a - 2), probe((b + 1).min(WIDTH - 1))) else {
             return false;
         };
         let (sl, sr) = (l.iter().sum::<i32>().max(1), r.iter().sum::<i32>().max(1));
