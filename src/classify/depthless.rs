@@ -138,6 +138,10 @@ struct Prefix {
     next: usize,
     /// Recent holes of the row, for [`ColourSplit::detached_pair`].
     recent: pairs::Recent,
+    /// The last split's first probe (row, hole start, background raw value, and whether the
+    /// hole's first pixel looked like the background beside it): a hole read again from its
+    /// left meets the same probe.
+    first_probe: Option<(usize, usize, u16, bool)>,
 }
 
 /// Splits remembered (rows are visited in order, so a few suffice).
@@ -361,6 +365,9 @@ impl ColourSplit {
                             // it on over the wall further left: over a black occluder's own
                             // hole it sees that occluder there.
                             let c = self.opened(c)?;
+                            if prefix.first_probe == Some((v, c.a, c.bg, false)) {
+                                return None;
+                            }
                             if c.b - c.a <= self.widest(c.bg)
                                 && !(self.sides_differ_in_light(rgb, v, (c.a, b), c.bg)
                                     && self.nothing_seen_before(row, rgb, v, c.a, c.bg))
@@ -922,7 +929,11 @@ impl ColourSplit {
         };
         let beside = probe(if c.behind { c.b + 1 } else { c.a - 2 })?;
         let step = self.dimmed(COLOUR_STEP, beside);
-        if hue_dist(probe(c.a)?, beside) >= step
+        let first_ok = hue_dist(probe(c.a)?, beside) < step;
+        if !c.behind {
+            prefix.first_probe = Some((v, c.a, c.bg, first_ok));
+        }
+        if !first_ok
             || (c.closed
                 && (hue_dist(probe(c.b + 1)?, beside) > self.dimmed(SIDES_AGREE, beside)
                     || (hue_dist(probe((c.a + c.b) / 2)?, beside) < step
