@@ -314,11 +314,10 @@ impl ColourSplit {
             // Past the row's first hole, each visit starts after a span's end, where more than
             // MAX_ISLAND valid pixels precede it: its span starts at `u`.
             let mut first = true;
-            // Holes further than the widest shadow from where the camera stops seeing (the
-            // border, or the dead band along it) cannot be an off-image occluder's shadow.
-            let off_image_from = mask
-                .prev_valid_end(WIDTH)
-                .saturating_sub(self.max_disp as usize);
+            // Where the camera stops seeing (the border, or the dead band along it): holes
+            // further than the widest shadow from it cannot be an off-image occluder's shadow.
+            let seen_to = mask.prev_valid_end(WIDTH);
+            let off_image_from = seen_to.saturating_sub(self.max_disp as usize);
             while u < WIDTH - SIDE {
                 let i = v * WIDTH + u;
                 let (a, b) = if first {
@@ -338,13 +337,8 @@ impl ColourSplit {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
-                if a >= off_image_from && self.off_image_detached(raw, rgb, v, (a, b)) {
-                    let i = v * WIDTH;
-                    for (l, &r) in labels[i + a..i + b].iter_mut().zip(&raw[i + a..i + b]) {
-                        if r == NO_DEPTH && *l == OTHER {
-                            *l = DETACHED;
-                        }
-                    }
+                if a >= off_image_from && self.off_image_detached(raw, rgb, v, (a, b), seen_to) {
+                    relabel(&mut labels[v * WIDTH + a..v * WIDTH + b], OTHER, DETACHED);
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
@@ -441,9 +435,7 @@ impl ColourSplit {
                         let span = &mut row[c.a..c.a + s];
                         let out = span.iter().filter(|&&l| l == OTHER).count();
                         if out > span.len() - out {
-                            span.iter_mut()
-                                .filter(|l| **l == ATTACHED)
-                                .for_each(|l| *l = OTHER);
+                            relabel(span, ATTACHED, OTHER);
                             occluder = false;
                         }
                     }
@@ -661,11 +653,8 @@ impl ColourSplit {
     /// one chromaticity on both sides, in different brightness: one surface, lit or patterned
     /// differently, not two.
     fn sides_differ_in_light(&self, rgb: &[u8], v: usize, (a, b): (usize, usize), bg: u16) -> bool {
-        // The split's own probes beside the hole (three RGB columns each).
-        let probe = |u: usize| {
-            let (x, y) = self.project(u as f64, v, bg);
-            rgb_mean3(rgb, x, y)
-        };
+        // The split's own probes beside the hole.
+        let probe = |u: usize| self.probe(rgb, u, v, bg);
         let (Some(l), Some(r)) = (probe(a - 2), probe((b + 1).min(WIDTH - 1))) else {
             return false;
         };
@@ -677,11 +666,13 @@ impl ColourSplit {
         off <= CHROMA_AGREE
     }
 
-    /// The closed candidate `c` read as an open one, when it is wider than any one shadow on its
-    /// background can be (so an occluder stands in it). The closed layout wants that occluder to
-    /// fill the hole up to the background on the right, which fails where something else runs
-    /// the hole on (another object's detached shadow beside a glossy sphere, say); read as open,
-    /// only the shadow and a window of occluder after it must show.
+    /// The closed candidate `c` read as an open one (read no further than twice its widest
+    /// shadow and a window). The closed layout wants the occluder to fill the hole up to the
+    /// background on the right, which fails where something else runs the hole on (another
+    /// object's detached shadow beside a glossy sphere, say), or where the two sides differ in
+    /// light; read as open, only the shadow and a window of occluder after it must show. The
+    /// caller decides when: a hole wider than any one shadow on its background (so an occluder
+    /// stands in it), or one whose sides are one surface in different light.
     fn opened(&self, c: Candidate) -> Option<Candidate> {
         let widest = self.widest(c.bg);
         if !c.closed || c.behind {
@@ -900,6 +891,13 @@ impl ColourSplit {
         Some(sum.map(|s| s / us.len() as i32))
     }
 
+    /// The mean colour of the three RGB columns nearest IR pixel (`u`, `v`) seen at raw value
+    /// `raw` ([`rgb_mean3`]), if inside the image: one probe, less noisy than a single pixel.
+    fn probe(&self, rgb: &[u8], u: usize, v: usize, raw: u16) -> Option<[i32; 3]> {
+        let (x, y) = self.project(u as f64, v, raw);
+        rgb_mean3(rgb, x, y)
+    }
+
     /// RGB column and row of IR pixel (`u`, `v`) at raw value `raw` (one division).
     fn project(&self, u: f64, v: usize, raw: u16) -> (f64, f64) {
         let iz = (self.den - f64::from(raw)) * self.iz_per_raw;
@@ -923,10 +921,7 @@ impl ColourSplit {
         // look like the background beside it, and its middle or right half like something else.
         // Each probe is the mean of three RGB columns: a camera's noise moves one pixel's colour
         // distance by tens (at σ = 5 per channel, 35 to 50 on average between two pixels).
-        let probe = |u: usize| {
-            let (x, y) = self.project(u as f64, v, c.bg);
-            rgb_mean3(rgb, x, y)
-        };
+        let probe = |u: usize| self.probe(rgb, u, v, c.bg);
         let beside = probe(if c.behind { c.b + 1 } else { c.a - 2 })?;
         let step = self.dimmed(COLOUR_STEP, beside);
         let first_ok = hue_dist(probe(c.a)?, beside) < step;
@@ -1118,6 +1113,14 @@ impl ColourSplit {
             && sum(occluder) >= self.dimmed(OCCLUDER_STEP, bg) * l.occluder_cols as u32;
         (clear && 10 * l.hits >= 9 * n && l.hits >= no_shadow + l.shadow_cols / 2)
             .then_some((s, shift.unwrap_or(s)))
+    }
+}
+
+/// The pixels of `labels` labelled `from` take `to` (the others, valid islands among them, keep
+/// theirs).
+fn relabel(labels: &mut [u8], from: u8, to: u8) {
+    for l in labels.iter_mut().filter(|l| **l == from) {
+        *l = to;
     }
 }
 

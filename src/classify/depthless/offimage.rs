@@ -36,13 +36,14 @@ const ENDS_AGREE: usize = 2;
 
 impl ColourSplit {
     /// True when the hole `[a, b)` of row `v` is the detached shadow of an occluder beyond the
-    /// image's right border (see the module's docs).
+    /// image's right border (see the module's docs); the row's valid pixels end at `seen_to`.
     pub(super) fn off_image_detached(
         &self,
         raw: &[u16],
         rgb: &[u8],
         v: usize,
         (a, b): (usize, usize),
+        seen_to: usize,
     ) -> bool {
         let row = &raw[v * WIDTH..(v + 1) * WIDTH];
         if a < SIDE || b - a < MIN_WIDTH || b >= WIDTH {
@@ -57,9 +58,8 @@ impl ColourSplit {
         if b - a >= widest || (self.disp(left) - self.disp(right)).abs() > SAME_SURFACE {
             return false;
         }
-        // Where the camera stops seeing at the latest: the border, or the dead band along it
-        // (the caller skips holes further than any shadow's width from it).
-        if self.masks[v].prev_valid_end(WIDTH) > a + widest {
+        // `seen_to`: where the camera stops seeing, the border or the dead band along it.
+        if seen_to > a + widest {
             return false;
         }
         // Nearest rows first: the sensor's dropouts (most holes of a real frame) fail there.
@@ -106,8 +106,7 @@ impl ColourSplit {
             if r == NO_DEPTH || (self.disp(r) - d_bg).abs() > SAME_SURFACE {
                 continue;
             }
-            let (x, y) = self.project(u as f64, v, bg);
-            match super::rgb_mean3(rgb, x, y) {
+            match self.probe(rgb, u, v, bg) {
                 Some(p) if hue_dist(p, wall) < step => seen += 1,
                 _ => return false,
             }
@@ -176,10 +175,7 @@ impl ColourSplit {
             return false;
         };
         let step = self.dimmed(COLOUR_STEP, wall);
-        let is_wall = |u: usize| {
-            let (x, y) = self.project(u as f64, v, bg);
-            super::rgb_mean3(rgb, x, y).map(|p| hue_dist(p, wall) < step)
-        };
+        let is_wall = |u: usize| self.probe(rgb, u, v, bg).map(|p| hue_dist(p, wall) < step);
         if hue_dist(right, wall) < self.dimmed(SIDES_AGREE, wall) {
             return (a..b).all(|u| is_wall(u) == Some(true));
         }

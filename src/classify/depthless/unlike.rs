@@ -11,7 +11,7 @@
 //! across a corner lies on the next surface, and one beside a thin Sa on the wall behind it;
 //! and the RGB camera may see an occluder without depth over Sa's last pixels.
 
-use super::{hue_dist, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE};
+use super::{hue_dist, relabel, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE};
 use crate::labels::{ATTACHED, NO_DEPTH, OTHER, WIDTH};
 
 /// Narrowest hole read (pixels): two columns of its first half, past the first (an edge's
@@ -93,7 +93,7 @@ impl ColourSplit {
         {
             return false;
         }
-        relabel(&mut labels[row + a..row + b]);
+        relabel(&mut labels[row + a..row + b], ATTACHED, OTHER);
         true
     }
 
@@ -131,7 +131,7 @@ impl ColourSplit {
         if hue_dist(hole, far) >= step || hue_dist(hole, occluder) < 2 * step {
             return false;
         }
-        relabel(&mut labels[row..row + b]);
+        relabel(&mut labels[row..row + b], ATTACHED, OTHER);
         true
     }
 
@@ -176,14 +176,5 @@ impl ColourSplit {
         };
         let row = &labels[v * WIDTH..(v + 1) * WIDTH];
         row[us.clone()].iter().all(|&l| l == OTHER).then_some(us)
-    }
-}
-
-/// ATTACHED pixels of `labels` become OTHER.
-fn relabel(labels: &mut [u8]) {
-    for l in labels {
-        if *l == ATTACHED {
-            *l = OTHER;
-        }
     }
 }
