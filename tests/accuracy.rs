@@ -1085,6 +1085,107 @@ fn narrow_black_box_before_a_wall_lit_unevenly_has_its_shadow_split_off() {
 }
 
 #[test]
+fn black_box_before_a_striped_wall_has_its_shadow_split_off() {
+    // The hand-computed black box (front face x = −0.2..0.2 m at 1 m) before a wall at 3 m
+    // papered in vertical stripes 5 cm wide, every other one in 75 % of the light: the shadow,
+    // f·b·(1/1 − 1/3) = 29.1 px by hand, lies over three stripes, whose colours differ by more
+    // than a plain wall's noise (the column test's step) but by far less than the black box.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::new("black box before a striped wall");
+    let green = [0.4, 0.6, 0.3];
+    for k in -50..50 {
+        let light = if k % 2 == 0 { 1.0 } else { 0.75 };
+        scene.push(
+            "wall",
+            umbra::synth::Shape::Box {
+                centre: umbra::synth::V3::new(0.05 * k as f64 + 0.025, 0.0, 3.05),
+                half: umbra::synth::V3::new(0.025, 3.0, 0.05),
+                yaw: 0.0,
+            },
+            umbra::synth::Material::matte(green.map(|c| c * light)),
+        );
+    }
+    scene.push(
+        "box",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(0.0, 0.0, 1.1),
+            half: umbra::synth::V3::new(0.2, 0.25, 0.1),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::black(),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 8);
+    let out = classify_rgb(&calib, &frame);
+    let w = calib.fb() * (1.0 - 1.0 / 3.0);
+    let (box_rows, rows) = attached_rows(&frame, &out.ir_labels, |v, n, truth| {
+        assert!(
+            (truth as f64 - w).abs() <= 1.5,
+            "row {v}: the scene's {truth}"
+        );
+        assert!(
+            n == 0 || (n as f64 - w).abs() <= 2.5,
+            "row {v}: {n} attached px, hand-computed {w:.2}"
+        );
+    });
+    assert!(box_rows > 250, "the box spans {box_rows} rows");
+    assert!(10 * rows >= 9 * box_rows, "{rows} of {box_rows} rows split");
+}
+
+#[test]
+fn plain_panel_beside_a_darker_wall_beyond_range_casts_no_shadow_from_colour() {
+    // A plain panel at 2 m ends at x = 0 (column cx = 313.0); behind it a wall at 5 m, beyond
+    // the sensor's range, of the panel's colour in 80 % of its light; a black box at 1.5 m from
+    // x = 0.1 m (column 313.0 + 0.1·fx/1.5 = 351.8). One hole from the panel's edge on: far wall,
+    // then box. The box's shadow on the panel's plane, f·b·(1/1.5 − 1/2) = 7.3 px left of its
+    // edge, lies past the panel's edge, on the far wall: OTHER, all of it. The far wall's colour
+    // differs from the panel's by more than a plain surface's noise and by far less than the
+    // box: a stripe of texture on a patterned wall, but the panel shows no pattern.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::new("plain panel beside a darker wall beyond range, black box");
+    let green = [0.4, 0.6, 0.3];
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(5.0),
+        umbra::synth::Material::matte(green.map(|c| c * 0.8)),
+    );
+    scene.push(
+        "panel",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(-1.5, 0.0, 2.05),
+            half: umbra::synth::V3::new(1.5, 3.0, 0.05),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::matte(green),
+    );
+    scene.push(
+        "box",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(0.3, 0.0, 1.6),
+            half: umbra::synth::V3::new(0.2, 0.25, 0.1),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::black(),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 8);
+    let out = classify_rgb(&calib, &frame);
+    let (mut box_rows, mut wrong) = (0, 0);
+    for v in 0..HEIGHT {
+        let count = |labels: &[u8], code: u8| {
+            (300..360)
+                .filter(|&u| labels[v * WIDTH + u] == code)
+                .count()
+        };
+        assert_eq!(count(&frame.ir_labels, ATTACHED), 0, "row {v}: the scene");
+        if frame.raw[v * WIDTH + 360] == 2047 && frame.raw[v * WIDTH + 300] != 2047 {
+            box_rows += 1;
+            wrong += count(&out.ir_labels, ATTACHED) + count(&out.ir_labels, DETACHED);
+        }
+    }
+    assert!(box_rows > 250, "the box spans {box_rows} rows");
+    assert_eq!(wrong, 0, "shadow labels beside the panel's edge");
+}
+
+#[test]
 fn black_box_shadow_is_split_off_whole_when_the_sensor_widens_shadows() {
     // The hand-computed black box (front face at 1 m, wall at 3 m: a shadow of
     // f·b·(1/1 − 1/3) = 29.1 px), and a grey rod (r = 5 cm at x = −0.6 m, z = 1.5 m) whose
