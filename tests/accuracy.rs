@@ -1186,6 +1186,25 @@ fn plain_panel_beside_a_darker_wall_beyond_range_casts_no_shadow_from_colour() {
 }
 
 #[test]
+fn black_box_near_the_left_border_has_its_shadow_split_off() {
+    // The hand-computed black box moved left until its shadow, f·b·(1/1 − 1/3) = 29.1 px, starts
+    // in column 2.6: its left edge at column 31.7, x = (31.7 − cx)/fx m. Two columns of wall
+    // show left of the hole, fewer than a hole elsewhere needs.
+    let calib = Calibration::nyu_default();
+    let x = (31.7 - calib.depth.cx) / calib.depth.fx + 0.2;
+    let (frame, out) = black_box_split(x, |_| 1.0, 6);
+    let first_hole = |v: usize| (0..WIDTH).find(|&u| frame.raw[v * WIDTH + u] == 2047);
+    let rows = (0..HEIGHT)
+        .filter(|&v| count_in_row(&out.ir_labels, v, ATTACHED) > 0)
+        .filter(|&v| first_hole(v).is_some_and(|u| u <= 3))
+        .count();
+    assert!(
+        rows > 100,
+        "{rows} rows split with the hole starting by column 3"
+    );
+}
+
+#[test]
 fn black_box_shadow_is_split_off_whole_when_the_sensor_widens_shadows() {
     // The hand-computed black box (front face at 1 m, wall at 3 m: a shadow of
     // f·b·(1/1 − 1/3) = 29.1 px), and a grey rod (r = 5 cm at x = −0.6 m, z = 1.5 m) whose

@@ -51,6 +51,8 @@ const MIN_HOLE: usize = 10;
 const RANGE_MARGIN: u16 = 1;
 /// Background samples taken on each side of the hole (IR pixels).
 const SIDE: usize = 4;
+/// Background pixels a hole at the image's left border needs left of it.
+const BORDER_SIDE: usize = 2;
 /// Disparity difference (pixels) within which the surfaces beside a hole are one background;
 /// past it, the nearer one is another surface.
 const SAME_SURFACE: f64 = 2.0;
@@ -327,7 +329,7 @@ impl ColourSplit {
             let mask = &self.masks[v];
             // Each hole is visited once: from its first pixel, on to its end (islands of up to
             // MAX_ISLAND pixels included), going from hole to hole on the row's bitmap.
-            let mut u = mask.next_hole(SIDE);
+            let mut u = mask.next_hole(BORDER_SIDE);
             // Past the row's first hole, each visit starts after a span's end, where more than
             // MAX_ISLAND valid pixels precede it: its span starts at `u`.
             let mut first = true;
@@ -541,7 +543,9 @@ impl ColourSplit {
         behind: bool,
     ) -> Option<Candidate> {
         let row = v * WIDTH;
-        if a < SIDE || b - a < MIN_HOLE {
+        // Two pixels of background suffice at the left border (the probe beside the hole reads
+        // the second); elsewhere a hole starts after more.
+        if a < BORDER_SIDE || b - a < MIN_HOLE {
             return None;
         }
         // The real sensor's dead band along the right border (25 to 34 px on the NYU frame) is an
@@ -980,13 +984,13 @@ impl ColourSplit {
         let bg = if c.behind {
             side(c.b..c.b + SIDE)?
         } else if c.closed {
-            let (left, right) = (side(c.a - SIDE..c.a)?, side(c.b..c.b + SIDE)?);
+            let (left, right) = (side(c.a.saturating_sub(SIDE)..c.a)?, side(c.b..c.b + SIDE)?);
             if hue_dist(left, right) > self.dimmed(SIDES_AGREE, beside) {
                 return None;
             }
             std::array::from_fn(|k| (left[k] + right[k]) / 2)
         } else {
-            side(c.a - SIDE..c.a)?
+            side(c.a.saturating_sub(SIDE)..c.a)?
         };
         // An open hole is read only as far as its widest shadow and a window of occluder.
         let d_bg = self.disp(c.bg);

@@ -93,7 +93,7 @@ impl ColourSplit {
         a: usize,
         bg: u16,
     ) -> bool {
-        let Some(wall) = self.mean_colour(rgb, v, a - SIDE..a, bg) else {
+        let Some(wall) = self.mean_colour(rgb, v, a.saturating_sub(SIDE)..a, bg) else {
             return false;
         };
         // Twice the colour split's step: a textured or shaded wall drifts by nearly one step
