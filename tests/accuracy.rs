@@ -1086,15 +1086,28 @@ fn narrow_black_box_before_a_wall_lit_unevenly_has_its_shadow_split_off() {
 
 #[test]
 fn black_box_before_a_striped_wall_has_its_shadow_split_off() {
-    // The hand-computed black box (front face x = −0.2..0.2 m at 1 m) before a wall at 3 m
-    // papered in vertical stripes 5 cm wide, every other one in 75 % of the light: the shadow,
-    // f·b·(1/1 − 1/3) = 29.1 px by hand, lies over three stripes, whose colours differ by more
-    // than a plain wall's noise (the column test's step) but by far less than the black box.
+    // Stripes a quarter darker: each stripe's colour differs from the next by more than a
+    // plain wall's noise (the column test's step) but by far less than the black box.
+    black_box_before_a_striped_wall(0.75);
+}
+
+#[test]
+fn black_box_before_a_boldly_striped_wall_has_its_shadow_split_off() {
+    // Stripes a third darker: the hole's first pixel, on the stripe after the one beside the
+    // hole, also differs from it by more than the step.
+    black_box_before_a_striped_wall(0.65);
+}
+
+/// The hand-computed black box (front face x = −0.2..0.2 m at 1 m) before a wall at 3 m papered
+/// in vertical stripes 5 cm wide, every other one in `dark` of the light: the shadow,
+/// f·b·(1/1 − 1/3) = 29.1 px by hand, starts on a stripe's edge (x = −0.75 m on the wall) and
+/// lies over three stripes. Asserts the split row by row.
+fn black_box_before_a_striped_wall(dark: f64) {
     let calib = Calibration::nyu_default();
     let mut scene = Scene::new("black box before a striped wall");
     let green = [0.4, 0.6, 0.3];
     for k in -50..50 {
-        let light = if k % 2 == 0 { 1.0 } else { 0.75 };
+        let light = if k % 2 == 0 { 1.0 } else { dark };
         scene.push(
             "wall",
             umbra::synth::Shape::Box {

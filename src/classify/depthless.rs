@@ -923,10 +923,17 @@ impl ColourSplit {
     /// How far the RGB camera sees the measured wall left of the hole starting at `a` of row `v`
     /// (raw value `raw`) stray from its colour `bg` beside the hole: the second largest colour
     /// distance over [`SPREAD_SPAN`] IR pixels (one stray pixel aside).
-    fn wall_spread(&self, rgb: &[u8], v: usize, a: usize, raw: u16, bg: [i32; 3]) -> u32 {
+    fn wall_spread(
+        &self,
+        rgb: &[u8],
+        v: usize,
+        wall: std::ops::Range<usize>,
+        raw: u16,
+        bg: [i32; 3],
+    ) -> u32 {
         let mask = &self.masks[v];
         let (mut first, mut second) = (0, 0);
-        for u in a.saturating_sub(SPREAD_SPAN)..a {
+        for u in wall {
             if mask.next_hole(u) == u {
                 continue;
             }
@@ -969,7 +976,21 @@ impl ColourSplit {
         let probe = |u: usize| self.probe(rgb, u, v, c.bg);
         let beside = probe(if c.behind { c.b + 1 } else { c.a - 2 })?;
         let step = self.dimmed(COLOUR_STEP, beside);
-        let first_ok = hue_dist(probe(c.a)?, beside) < step;
+        // The wall whose texture may excuse a colour that strays from the probe beside the hole:
+        // left of it, or right of it behind a nearer surface; none where a farther surface
+        // bounds the hole on the right, for the left side may be an object whose shadow fell
+        // behind it, and its shading is no wall's texture.
+        let wall = if c.behind {
+            Some(c.b..(c.b + SPREAD_SPAN).min(WIDTH))
+        } else {
+            (!c.farther_right).then(|| c.a.saturating_sub(SPREAD_SPAN)..c.a)
+        };
+        let d_first = hue_dist(probe(c.a)?, beside);
+        let first_ok = d_first < step
+            || (d_first < CONTRAST_CAP * step / 2
+                && wall.clone().is_some_and(|w| {
+                    2 * d_first <= SPREAD_NUM * self.wall_spread(rgb, v, w, c.bg, beside)
+                }));
         if !c.behind {
             prefix.first_probe = Some((v, c.a, c.bg, first_ok));
         }
@@ -1032,10 +1053,9 @@ impl ColourSplit {
         // surface with a farther one right of the hole: that surface may be an object whose
         // shadow fell behind it, and its shading is no wall's texture.
         let raised = contrast_step(pixels.len() / 3, step, |k| hue_dist(colour(k), bg));
-        let spread = if raised > step && !c.behind && !c.farther_right {
-            self.wall_spread(rgb, v, c.a, c.bg, bg)
-        } else {
-            0
+        let spread = match wall {
+            Some(w) if raised > step => self.wall_spread(rgb, v, w, c.bg, bg),
+            _ => 0,
         };
         let col_step = raised.min((SPREAD_NUM * spread / 2).max(step));
         let columns = background_columns(pixels.len() / 3, col_step, |k| hue_dist(colour(k), bg));
