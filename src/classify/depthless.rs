@@ -933,12 +933,22 @@ impl ColourSplit {
     ) -> u32 {
         let mask = &self.masks[v];
         let (mut first, mut second) = (0, 0);
+        if wall.is_empty() {
+            return 0;
+        }
+        // Over a few dozen pixels the projection is linear in the column to well under a pixel:
+        // two divisions, not one per pixel.
+        let (start, last) = (wall.start, wall.end - 1);
+        let (xa, ya) = self.project(start as f64, v, raw);
+        let (xb, yb) = self.project(last as f64, v, raw);
+        let span = (last - start).max(1) as f64;
+        let (dx, dy) = ((xb - xa) / span, (yb - ya) / span);
         for u in wall {
-            if mask.next_hole(u) == u {
+            if mask.is_hole(u) {
                 continue;
             }
-            let (x, y) = self.project(u as f64, v, raw);
-            if let Some(p) = rgb_at(rgb, x, y) {
+            let k = (u - start) as f64;
+            if let Some(p) = rgb_at(rgb, xa + k * dx, ya + k * dy) {
                 let d = hue_dist(p, bg);
                 if d > first {
                     (first, second) = (d, first);

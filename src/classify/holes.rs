@@ -32,6 +32,12 @@ impl HoleMask {
         }
     }
 
+    /// Whether pixel `u` (inside the row) is a hole: one bit test.
+    #[inline(always)]
+    pub(crate) fn is_hole(&self, u: usize) -> bool {
+        self.words[u / 64] >> (u % 64) & 1 == 1
+    }
+
     /// The first hole pixel at or after `from`, or the row's length when there is none.
     #[inline(always)]
     pub(crate) fn next_hole(&self, from: usize) -> usize {
@@ -184,6 +190,9 @@ mod tests {
                 );
                 assert_eq!(mask.prev_hole_end(from), hole, "hole before {from}");
                 assert_eq!(mask.prev_valid_end(from), valid, "valid before {from}");
+            }
+            for (u, &r) in raw.iter().enumerate() {
+                assert_eq!(mask.is_hole(u), r == NO_DEPTH, "pixel {u}");
             }
         }
     }
