@@ -1062,12 +1062,15 @@ impl ColourSplit {
         // while they stray no further than the wall left of the hole does. Not beside a nearer
         // surface with a farther one right of the hole: that surface may be an object whose
         // shadow fell behind it, and its shading is no wall's texture.
-        let raised = contrast_step(pixels.len() / 3, step, |k| hue_dist(colour(k), bg));
-        let spread = match wall {
-            Some(w) if raised > step => self.wall_spread(rgb, v, w, c.bg, bg),
-            _ => 0,
+        // The wall's spread first: it is two dozen pixels, the occluder's contrast every column,
+        // and a plain wall (most) leaves the step as it is either way.
+        let spread = wall.map_or(0, |w| self.wall_spread(rgb, v, w, c.bg, bg));
+        let col_step = if SPREAD_NUM * spread / 2 > step {
+            contrast_step(pixels.len() / 3, step, |k| hue_dist(colour(k), bg))
+                .min(SPREAD_NUM * spread / 2)
+        } else {
+            step
         };
-        let col_step = raised.min((SPREAD_NUM * spread / 2).max(step));
         let columns = background_columns(pixels.len() / 3, col_step, |k| hue_dist(colour(k), bg));
         for (k, is_bg) in columns.enumerate() {
             bg_count[k + 1] = bg_count[k] + u32::from(is_bg);
