@@ -995,12 +995,17 @@ impl ColourSplit {
         } else {
             (!c.farther_right).then(|| c.a.saturating_sub(SPREAD_SPAN)..c.a)
         };
+        // Read once, against the probe beside the hole, for this test and the column test below.
+        let mut spread = None;
+        let mut spread_of = || {
+            *spread.get_or_insert_with(|| {
+                wall.clone()
+                    .map_or(0, |w| self.wall_spread(rgb, v, w, c.bg, beside))
+            })
+        };
         let d_first = hue_dist(probe(c.a)?, beside);
         let first_ok = d_first < step
-            || (d_first < CONTRAST_CAP * step / 2
-                && wall.clone().is_some_and(|w| {
-                    2 * d_first <= SPREAD_NUM * self.wall_spread(rgb, v, w, c.bg, beside)
-                }));
+            || (d_first < CONTRAST_CAP * step / 2 && 2 * d_first <= SPREAD_NUM * spread_of());
         if !c.behind {
             prefix.first_probe = Some((v, c.a, c.bg, first_ok));
         }
@@ -1064,7 +1069,7 @@ impl ColourSplit {
         // shadow fell behind it, and its shading is no wall's texture.
         // The wall's spread first: it is two dozen pixels, the occluder's contrast every column,
         // and a plain wall (most) leaves the step as it is either way.
-        let spread = wall.map_or(0, |w| self.wall_spread(rgb, v, w, c.bg, bg));
+        let spread = spread_of();
         let col_step = if SPREAD_NUM * spread / 2 > step {
             contrast_step(pixels.len() / 3, step, |k| hue_dist(colour(k), bg))
                 .min(SPREAD_NUM * spread / 2)
