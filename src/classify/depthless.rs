@@ -75,10 +75,10 @@ const SIDES_AGREE: u32 = 68;
 const CHROMA_AGREE: i32 = 20;
 /// An occluder's contrast (colour distance from the background) per unit of the column step it
 /// may raise ([`contrast_step`]): a black box (about 500 from a green wall) lets the wall's
-/// columns drift by up to 125 and still count as wall. Against the plain step: complex attached
-/// F1 +0.003 to +0.018 on eight of an independent simulator's ten suites (textured and unevenly
-/// lit walls), the other two unchanged; this project's 25 suites −0.0001 to +0.0020; the real
-/// frame's labels unchanged.
+/// columns drift by up to 125 and still count as wall. Against the plain step (with the hole's
+/// first pixel read likewise): complex attached F1 +0.004 to +0.023 on eight of an independent
+/// simulator's ten suites (textured and unevenly lit walls), the other two unchanged; this
+/// project's 25 suites −0.0002 to +0.0036; the real frame's labels unchanged.
 const CONTRAST_SHARE: u32 = 4;
 /// The raised step at most, in halves of the plain one.
 const CONTRAST_CAP: u32 = 4;
