@@ -1044,7 +1044,6 @@ fn narrow_black_box_before_a_wall_lit_unevenly_has_its_shadow_split_off() {
     // colour, darker). By hand: the box spans columns cx ± 0.025·fx = 298.5..327.6, its shadow
     // f·b·(1/1 − 1/3) = 29.1 px left of it, 269.3..298.5: one hole of 58 px, narrower than the
     // widest shadow on that wall, whose two sides differ in brightness only.
-    let calib = Calibration::nyu_default();
     let mut scene = Scene::new("narrow black box before an unevenly lit wall");
     let green = [0.4, 0.6, 0.3];
     for (x, light) in [(-1.5, 1.0), (1.5, 0.75)] {
@@ -1058,11 +1057,19 @@ fn narrow_black_box_before_a_wall_lit_unevenly_has_its_shadow_split_off() {
             umbra::synth::Material::matte(green.map(|c| c * light)),
         );
     }
+    assert_black_box_split_as_by_hand(scene, 0.025);
+}
+
+/// Adds to `scene` (a wall at 3 m) a black box `half_width` wide each side of x = 0, its front
+/// face at 1 m, and asserts its shadow's split row by row: f·b·(1/1 − 1/3) = 29.1 px by hand,
+/// within 2.5 px where split, in at least nine rows of ten.
+fn assert_black_box_split_as_by_hand(mut scene: Scene, half_width: f64) {
+    let calib = Calibration::nyu_default();
     scene.push(
         "box",
         umbra::synth::Shape::Box {
             centre: umbra::synth::V3::new(0.0, 0.0, 1.1),
-            half: umbra::synth::V3::new(0.025, 0.25, 0.1),
+            half: umbra::synth::V3::new(half_width, 0.25, 0.1),
             yaw: 0.0,
         },
         umbra::synth::Material::black(),
@@ -1103,7 +1110,6 @@ fn black_box_before_a_boldly_striped_wall_has_its_shadow_split_off() {
 /// f·b·(1/1 − 1/3) = 29.1 px by hand, starts on a stripe's edge (x = −0.75 m on the wall) and
 /// lies over three stripes. Asserts the split row by row.
 fn black_box_before_a_striped_wall(dark: f64) {
-    let calib = Calibration::nyu_default();
     let mut scene = Scene::new("black box before a striped wall");
     let green = [0.4, 0.6, 0.3];
     for k in -50..50 {
@@ -1118,30 +1124,7 @@ fn black_box_before_a_striped_wall(dark: f64) {
             umbra::synth::Material::matte(green.map(|c| c * light)),
         );
     }
-    scene.push(
-        "box",
-        umbra::synth::Shape::Box {
-            centre: umbra::synth::V3::new(0.0, 0.0, 1.1),
-            half: umbra::synth::V3::new(0.2, 0.25, 0.1),
-            yaw: 0.0,
-        },
-        umbra::synth::Material::black(),
-    );
-    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 8);
-    let out = classify_rgb(&calib, &frame);
-    let w = calib.fb() * (1.0 - 1.0 / 3.0);
-    let (box_rows, rows) = attached_rows(&frame, &out.ir_labels, |v, n, truth| {
-        assert!(
-            (truth as f64 - w).abs() <= 1.5,
-            "row {v}: the scene's {truth}"
-        );
-        assert!(
-            n == 0 || (n as f64 - w).abs() <= 2.5,
-            "row {v}: {n} attached px, hand-computed {w:.2}"
-        );
-    });
-    assert!(box_rows > 250, "the box spans {box_rows} rows");
-    assert!(10 * rows >= 9 * box_rows, "{rows} of {box_rows} rows split");
+    assert_black_box_split_as_by_hand(scene, 0.2);
 }
 
 #[test]
