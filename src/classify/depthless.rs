@@ -920,9 +920,9 @@ impl ColourSplit {
         rgb_mean3(rgb, x, y)
     }
 
-    /// How far the RGB camera sees the measured wall left of the hole starting at `a` of row `v`
-    /// (raw value `raw`) stray from its colour `bg` beside the hole: the second largest colour
-    /// distance over [`SPREAD_SPAN`] IR pixels (one stray pixel aside).
+    /// How far the RGB camera sees the wall at IR pixels `wall` of row `v` (raw value `raw`;
+    /// its holes left out) stray from the colour `bg` beside the hole: the second largest colour
+    /// distance (one stray pixel aside).
     fn wall_spread(
         &self,
         rgb: &[u8],
@@ -931,11 +931,11 @@ impl ColourSplit {
         raw: u16,
         bg: [i32; 3],
     ) -> u32 {
-        let mask = &self.masks[v];
-        let (mut first, mut second) = (0, 0);
         if wall.is_empty() {
             return 0;
         }
+        let mask = &self.masks[v];
+        let (mut first, mut second) = (0, 0);
         // Over a few dozen pixels the projection is linear in the column to well under a pixel:
         // two divisions, not one per pixel.
         let (start, last) = (wall.start, wall.end - 1);
@@ -1064,11 +1064,8 @@ impl ColourSplit {
         let colour = |k: usize| [3 * k, 3 * k + 1, 3 * k + 2].map(|i| i32::from(pixels[i]));
         // A textured or unevenly lit wall drifts in colour along the hole by more than a plain
         // one's noise: beside an occluder of far greater contrast, its columns count as wall
-        // while they stray no further than the wall left of the hole does. Not beside a nearer
-        // surface with a farther one right of the hole: that surface may be an object whose
-        // shadow fell behind it, and its shading is no wall's texture.
-        // The wall's spread first: it is two dozen pixels, the occluder's contrast every column,
-        // and a plain wall (most) leaves the step as it is either way.
+        // while they stray no further than the wall beside the hole does ([`Self::wall_spread`]
+        // first: two dozen pixels against every column, and a plain wall, most, needs no more).
         let spread = spread_of();
         let col_step = if SPREAD_NUM * spread / 2 > step {
             contrast_step(pixels.len() / 3, step, |k| hue_dist(colour(k), bg))
