@@ -3,7 +3,7 @@
 //!
 //! A pixel's second difference along its row, `p[x−1] − 2·p[x] + p[x+1]`, cancels a surface's
 //! shading (linear across three pixels) and keeps the noise: with independent noise of σ per
-//! channel its mean magnitude is `σ·√6·√(2/π)`. Differences past [`EDGE`] are an edge, not noise,
+//! channel its mean magnitude is `σ·√6·√(2/π)`. Differences past `EDGE` are an edge, not noise,
 //! and left out. Texture counts as noise here, which errs the safe way: a textured scene's steps
 //! go up, and fewer colour edges are trusted.
 
