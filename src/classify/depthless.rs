@@ -1004,8 +1004,13 @@ impl ColourSplit {
             })
         };
         let d_first = hue_dist(probe(c.a)?, beside);
+        // Only beside an occluder of far greater contrast (the column step rises for no other),
+        // which the probe in the hole's middle shows.
         let first_ok = d_first < step
-            || (d_first < CONTRAST_CAP * step / 2 && 2 * d_first <= SPREAD_NUM * spread_of());
+            || (d_first < CONTRAST_CAP * step / 2
+                && probe((c.a + c.b) / 2)
+                    .is_some_and(|p| hue_dist(p, beside) >= CONTRAST_SHARE * step)
+                && 2 * d_first <= SPREAD_NUM * spread_of());
         if !c.behind {
             prefix.first_probe = Some((v, c.a, c.bg, first_ok));
         }
