@@ -1003,13 +1003,15 @@ impl ColourSplit {
                     .map_or(0, |w| self.wall_spread(rgb, v, w, c.bg, beside))
             })
         };
+        // The probe in the hole's middle, read at most once for the two tests below.
+        let mut middle = None;
+        let mut middle_of = || *middle.get_or_insert_with(|| probe((c.a + c.b) / 2));
         let d_first = hue_dist(probe(c.a)?, beside);
         // Only beside an occluder of far greater contrast (the column step rises for no other),
         // which the probe in the hole's middle shows.
         let first_ok = d_first < step
             || (d_first < CONTRAST_CAP * step / 2
-                && probe((c.a + c.b) / 2)
-                    .is_some_and(|p| hue_dist(p, beside) >= CONTRAST_SHARE * step)
+                && middle_of().is_some_and(|p| hue_dist(p, beside) >= CONTRAST_SHARE * step)
                 && 2 * d_first <= SPREAD_NUM * spread_of());
         if !c.behind {
             prefix.first_probe = Some((v, c.a, c.bg, first_ok));
@@ -1017,7 +1019,7 @@ impl ColourSplit {
         if !first_ok
             || (c.closed
                 && (hue_dist(probe(c.b + 1)?, beside) > self.dimmed(SIDES_AGREE, beside)
-                    || (hue_dist(probe((c.a + c.b) / 2)?, beside) < step
+                    || (hue_dist(middle_of()?, beside) < step
                         && hue_dist(probe((c.a + 3 * c.b) / 4)?, beside) < step)))
         {
             return None;
@@ -1072,13 +1074,13 @@ impl ColourSplit {
         // while they stray no further than the wall beside the hole does ([`Self::wall_spread`]
         // first: two dozen pixels against every column, and a plain wall, most, needs no more).
         let spread = spread_of();
+        let dist = |k: usize| hue_dist(colour(k), bg);
         let col_step = if SPREAD_NUM * spread / 2 > step {
-            contrast_step(pixels.len() / 3, step, |k| hue_dist(colour(k), bg))
-                .min(SPREAD_NUM * spread / 2)
+            contrast_step(pixels.len() / 3, step, dist).min(SPREAD_NUM * spread / 2)
         } else {
             step
         };
-        let columns = background_columns(pixels.len() / 3, col_step, |k| hue_dist(colour(k), bg));
+        let columns = background_columns(pixels.len() / 3, col_step, dist);
         for (k, is_bg) in columns.enumerate() {
             bg_count[k + 1] = bg_count[k] + u32::from(is_bg);
             if !c.closed && first.is_none() && k >= 2 && bg_count[k + 1] == bg_count[k - 2] {
