@@ -1110,15 +1110,31 @@ fn black_box_before_a_boldly_striped_wall_has_its_shadow_split_off() {
 /// f·b·(1/1 − 1/3) = 29.1 px by hand, starts on a stripe's edge (x = −0.75 m on the wall) and
 /// lies over three stripes. Asserts the split row by row.
 fn black_box_before_a_striped_wall(dark: f64) {
-    let mut scene = Scene::new("black box before a striped wall");
+    black_box_before_a_banded_wall(0.05, 0.0, dark);
+}
+
+#[test]
+fn black_box_before_a_wall_of_wide_bands_has_its_shadow_split_off() {
+    // Bands 24 cm wide (47 px at 3 m), one edge at x = −0.69 m: the shadow (x = −0.75..−0.60 m
+    // on the wall) starts 12 cm into a light band, crosses onto a band a quarter darker after
+    // 11.7 px and lies there for its last 17.4. The 24 px left of the hole (12.4 cm, to
+    // x = −0.874) show the light band only; the 40 left of it (20.6 cm, to x = −0.956) reach
+    // 5 px into the dark band before it.
+    black_box_before_a_banded_wall(0.24, -0.69 - 0.24, 0.75);
+}
+
+/// The hand-computed black box before a wall at 3 m papered in vertical bands `width` wide from
+/// `edge` on (x, metres), every other one (the first from `edge` light) in `dark` of the light.
+fn black_box_before_a_banded_wall(width: f64, edge: f64, dark: f64) {
+    let mut scene = Scene::new("black box before a banded wall");
     let green = [0.4, 0.6, 0.3];
     for k in -50..50 {
         let light = if k % 2 == 0 { 1.0 } else { dark };
         scene.push(
             "wall",
             umbra::synth::Shape::Box {
-                centre: umbra::synth::V3::new(0.05 * k as f64 + 0.025, 0.0, 3.05),
-                half: umbra::synth::V3::new(0.025, 3.0, 0.05),
+                centre: umbra::synth::V3::new(edge + width * (f64::from(k) + 0.5), 0.0, 3.05),
+                half: umbra::synth::V3::new(width / 2.0, 3.0, 0.05),
                 yaw: 0.0,
             },
             umbra::synth::Material::matte(green.map(|c| c * light)),
