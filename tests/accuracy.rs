@@ -2222,3 +2222,35 @@ fn black_rod_just_wider_than_its_shift_casts_an_attached_shadow() {
         "IR attached, rod 2.4 px wider than its shift",
     );
 }
+
+#[test]
+fn black_box_before_a_wall_dashed_every_other_row_has_its_shadow_split_off() {
+    // The hand-computed black box before a plain wall at 3 m, with a dark dash 3 cm wide (6 px)
+    // in its shadow (x = −0.74..−0.71 m) on every other IR row: each dash is 2 mm tall, at the
+    // height of the RGB row the colour split reads for that IR row (row cy' + (v − cy)·fy'/fy of
+    // the RGB camera, which sits beside the IR camera, so rows map to rows), and RGB rows lie
+    // 5.8 mm apart on the wall. A dashed row's shadow shows a dark stripe, neither wall nor
+    // box, and its split fails; each row between has a dashed row above and below. (Fails without the rows two away: no row
+    // of 292 split.)
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::new("black box before a wall dashed every other row");
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(3.0),
+        umbra::synth::Material::matte([0.4, 0.6, 0.3]),
+    );
+    let (ir, rgb) = (&calib.depth, &calib.rgb);
+    for v in (0..HEIGHT).step_by(2) {
+        let y = (rgb.cy + (v as f64 - ir.cy) * rgb.fy / ir.fy).round();
+        scene.push(
+            "dash",
+            umbra::synth::Shape::Box {
+                centre: umbra::synth::V3::new(-0.725, (y - rgb.cy) / rgb.fy * 3.0, 2.999),
+                half: umbra::synth::V3::new(0.015, 0.001, 0.0005),
+                yaw: 0.0,
+            },
+            umbra::synth::Material::matte([0.05, 0.05, 0.05]),
+        );
+    }
+    assert_black_box_split_as_by_hand(scene, 0.2);
+}
