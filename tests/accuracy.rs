@@ -2254,3 +2254,31 @@ fn black_box_before_a_wall_dashed_every_other_row_has_its_shadow_split_off() {
     }
     assert_black_box_split_as_by_hand(scene, 0.2);
 }
+
+#[test]
+fn black_box_before_a_wall_has_its_shadow_split_in_its_top_row() {
+    // The hand-computed black box: its top edge (y = −0.25 m at 1 m) lies at row
+    // cy − 0.25·fy = 92.8, and so does the top of its shadow on the wall (y = −0.75 m at 3 m:
+    // the projector sits beside the camera, not above it), so row 93 is the first to hold both.
+    // The RGB camera reads it at row cy' + (93 − cy)·fy'/fy = 124.1, whose centre (y = −0.2498 m
+    // at 1 m) still shows the box. The row above holds no hole: the row below alone must confirm
+    // the split.
+    let calib = Calibration::nyu_default();
+    let frame = render_frame(&black_box_before_wall(), &calib, &SensorModel::ideal(), 8);
+    let out = classify_rgb(&calib, &frame);
+    let w = calib.fb() * (1.0 - 1.0 / 3.0);
+    let top = (calib.depth.cy - 0.25 * calib.depth.fy).ceil() as usize;
+    assert_eq!(top, 93);
+    assert_eq!(
+        count_in_row(&frame.ir_labels, top - 1, ATTACHED),
+        0,
+        "the scene"
+    );
+    let truth = count_in_row(&frame.ir_labels, top, ATTACHED);
+    assert!((truth as f64 - w).abs() <= 1.5, "the scene's {truth}");
+    let n = count_in_row(&out.ir_labels, top, ATTACHED);
+    assert!(
+        (n as f64 - w).abs() <= 2.5,
+        "row {top}: {n} attached px, hand-computed {w:.2}"
+    );
+}
