@@ -2230,8 +2230,8 @@ fn black_box_before_a_wall_dashed_every_other_row_has_its_shadow_split_off() {
     // height of the RGB row the colour split reads for that IR row (row cy' + (v − cy)·fy'/fy of
     // the RGB camera, which sits beside the IR camera, so rows map to rows), and RGB rows lie
     // 5.8 mm apart on the wall. A dashed row's shadow shows a dark stripe, neither wall nor
-    // box, and its split fails; each row between has a dashed row above and below. (Fails without the rows two away: no row
-    // of 292 split.)
+    // box, and its split fails; each row between has a dashed row above and below. (Fails
+    // without the rows two away: no row of 292 split.)
     let calib = Calibration::nyu_default();
     let mut scene = Scene::new("black box before a wall dashed every other row");
     scene.push(
