@@ -82,10 +82,10 @@ const CHROMA_AGREE: i32 = 20;
 const CONTRAST_SHARE: u32 = 4;
 /// The raised step at most, in halves of the plain one.
 const CONTRAST_CAP: u32 = 4;
-/// IR pixels of the wall left of a hole whose colours show its texture ([`ColourSplit::wall_spread`]):
-/// at 3 m, 20 cm of wall. 24 px saw only one band of a wall papered in bands as wide, and a
-/// shadow running onto the next band was cut at its edge (in runs of rows, one checker square
-/// high): complex attached F1 +0.001 to +0.003 on five of the other
+/// IR pixels of the wall left of a hole whose colours show its texture
+/// ([`ColourSplit::wall_spread`]): at 3 m, 20 cm of wall. 24 px saw only one band of a wall
+/// papered in bands as wide, and a shadow running onto the next band was cut at its edge (in runs
+/// of rows, one checker square high): complex attached F1 +0.001 to +0.003 on five of the other
 /// simulator's ten suites, −0.0001 on one; this project's 25 suites −0.0003 to +0.0003.
 const SPREAD_SPAN: usize = 40;
 /// The raised step at most, in halves of that texture's spread: a column may stray from the
