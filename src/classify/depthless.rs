@@ -1253,9 +1253,11 @@ impl ColourSplit {
         };
         let clear = l.shadow_cols >= 2
             && l.occluder_cols >= 2
-            && (2 * hue_dist(mean(0..shadow_read), bg) <= self.dimmed(COLOUR_STEP, bg)
+            && {
+                let d = hue_dist(mean(0..shadow_read), bg);
                 // Over a textured wall, within the wall's own spread.
-                || (col_step > step && hue_dist(mean(0..shadow_read), bg) <= spread))
+                2 * d <= self.dimmed(COLOUR_STEP, bg) || (col_step > step && d <= spread)
+            }
             && sum(occluder) >= self.dimmed(OCCLUDER_STEP, bg) * l.occluder_cols as u32;
         (clear && 10 * l.hits >= 9 * n && l.hits >= no_shadow + l.shadow_cols / 2)
             .then_some((s, shift.unwrap_or(s)))
