@@ -94,9 +94,6 @@ pub struct Warp {
     col_x: Vec<f32>,
     col_y: Vec<f32>,
     col_z: Vec<f32>,
-    /// Per column of the current source row: 1 where the next pixel is a jump farther, 2 a jump
-    /// nearer (the last column, which has no next, stays 0).
-    edge_flags: Vec<u8>,
     /// The current source row's depth edges, from [`Warp::find_edges`] (capacity reserved once).
     edge_list: Vec<(usize, bool)>,
     /// The colour steps' factor for the frame's camera noise, in 64ths
@@ -137,7 +134,8 @@ impl Warp {
             astray_px: (0.5 * calib.rgb.fx / d.fx
                 + 0.5 * calib.rgb.fx * calib.depth_to_rgb.translation.x.abs() / calib.raw.numerator)
                 as f32,
-            jump_raw: (1.5 / calib.px_per_raw()).round() as i32,
+            // At least one raw unit: a jump of none would make every pair of pixels an edge.
+            jump_raw: ((1.5 / calib.px_per_raw()).round() as i32).max(1),
             zbuf: vec![EMPTY; PIXELS + 1]
                 .into_boxed_slice()
                 .try_into()
@@ -147,7 +145,6 @@ impl Warp {
             col_x: column_terms(calib.rgb.fx as f32 * col_step[0]),
             col_y: column_terms(calib.rgb.fy as f32 * col_step[1]),
             col_z: column_terms(col_step[2]),
-            edge_flags: vec![0; WIDTH],
             edge_list: Vec::with_capacity(WIDTH),
             parity: (0..WIDTH).map(|u| ((u & 1) as u32) << LABEL_BITS).collect(),
             noise_scale: 64,
@@ -519,25 +516,30 @@ impl Warp {
 
     /// Lists the depth edges of a source row in `edge_list`: `(u, rising)` where pixels `u` and
     /// `u + 1` differ by a jump, rising when `u + 1` is the farther. Disparity is linear in raw,
-    /// so the test runs on raw values, branch-free into a byte per column (vectorised); edges
-    /// are rare, so the bytes are then read eight at a time.
+    /// so the test runs on raw values; edges are rare, so sixteen columns' tests become two bit
+    /// masks at once and only set bits are visited.
     #[inline(always)]
     fn find_edges(&mut self, filled: &[u16]) {
         let jump = self.jump_raw;
-        let flags = &mut self.edge_flags;
-        for ((f, &a), &b) in flags.iter_mut().zip(filled).zip(&filled[1..]) {
-            let step = i32::from(b) - i32::from(a);
-            *f = u8::from(step >= jump) | (u8::from(step <= -jump) << 1);
-        }
-        for (chunk, bytes) in flags.chunks_exact(8).enumerate() {
-            let word = u64::from_le_bytes(bytes.try_into().expect("8 bytes"));
-            if word == 0 {
-                continue;
+        let pairs = filled.len() - 1;
+        let mut u = 0;
+        #[cfg(target_arch = "x86_64")]
+        while u + 17 <= filled.len() {
+            let (rise, fall) = edge_masks(&filled[u..u + 17], jump);
+            let mut bits = rise | fall;
+            while bits != 0 {
+                let k = bits.trailing_zeros();
+                self.edge_list.push((u + k as usize, rise >> k & 1 == 1));
+                bits &= bits - 1;
             }
-            for (k, &f) in bytes.iter().enumerate() {
-                if f != 0 {
-                    self.edge_list.push((chunk * 8 + k, f == 1));
-                }
+            u += 16;
+        }
+        for u in u..pairs {
+            let step = i32::from(filled[u + 1]) - i32::from(filled[u]);
+            if step >= jump {
+                self.edge_list.push((u, true));
+            } else if step <= -jump {
+                self.edge_list.push((u, false));
             }
         }
     }
@@ -888,6 +890,40 @@ unsafe fn scatter_avx512(zbuf: &mut [u32; PIXELS + 1], target: &[u32], keys: &[u
     scatter(zbuf, &target[i..n], &keys[i..n]);
 }
 
+/// The depth-edge bits of the sixteen pairs of `seventeen` raw values: bit `k` of the first mask
+/// where value `k + 1` exceeds value `k` by `jump` or more, of the second where it falls short by
+/// as much. Unsigned saturating differences, exact for any u16; SSE2 is part of x86-64 itself,
+/// so every build has it.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn edge_masks(seventeen: &[u16], jump: i32) -> (u32, u32) {
+    use std::arch::x86_64::{
+        __m128i, _mm_cmpeq_epi16, _mm_loadu_si128, _mm_movemask_epi8, _mm_packs_epi16,
+        _mm_set1_epi16, _mm_setzero_si128, _mm_subs_epu16,
+    };
+    assert!(seventeen.len() >= 17);
+    let below = (jump.clamp(1, 65535) - 1) as u16 as i16;
+    // SAFETY: SSE2 is always present on x86-64; the four unaligned loads read values 0..16 and
+    // 1..17 of `seventeen`, which holds at least 17.
+    let (short_up, short_down) = unsafe {
+        let at = seventeen.as_ptr();
+        let a0 = _mm_loadu_si128(at.cast::<__m128i>());
+        let a1 = _mm_loadu_si128(at.add(8).cast::<__m128i>());
+        let b0 = _mm_loadu_si128(at.add(1).cast::<__m128i>());
+        let b1 = _mm_loadu_si128(at.add(9).cast::<__m128i>());
+        let (below, zero) = (_mm_set1_epi16(below), _mm_setzero_si128());
+        // A lane is all ones where the step falls short of the jump: (d ⊖ (jump − 1)) = 0.
+        let short = |x: __m128i, y: __m128i| {
+            _mm_cmpeq_epi16(_mm_subs_epu16(_mm_subs_epu16(x, y), below), zero)
+        };
+        (
+            _mm_movemask_epi8(_mm_packs_epi16(short(b0, a0), short(b1, a1))),
+            _mm_movemask_epi8(_mm_packs_epi16(short(a0, b0), short(a1, b1))),
+        )
+    };
+    (!short_up as u32 & 0xFFFF, !short_down as u32 & 0xFFFF)
+}
+
 /// `u · step` for every column `u`, in f32.
 fn column_terms(step: f32) -> Vec<f32> {
     (0..WIDTH).map(|u| u as f32 * step).collect()
@@ -1082,6 +1118,58 @@ mod tests {
     use super::*;
     use crate::classify::{Classified, Classifier};
     use crate::labels::{histogram, ATTACHED};
+
+    /// The edge list is what a pixel-pair scan of the definition gives: steps of exactly the jump
+    /// and one short of it, both ways, at every column (the 16-column blocks and the tail they
+    /// leave), values up to u16's top, random rows, for jumps from 1 to past any raw step.
+    #[test]
+    fn depth_edges_are_the_pairs_whose_step_reaches_the_jump() {
+        let mut warp = Warp::new(&Calibration::nyu_default());
+        let mut seed = 0x2545_f491_u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed
+        };
+        for jump in [1, 2, 12, 13, 2047, 2048, 65535] {
+            let mut rows = Vec::new();
+            for base in [0u16, 700, 2047, 62000] {
+                // Teeth of the jump and of one short of it: a rise and a fall at every pair,
+                // the tooth's height changing every few columns, so across the blocks' seams.
+                let row: Vec<u16> = (0..WIDTH)
+                    .map(|u| {
+                        let tooth = if (u / 3) % 2 == 0 { jump } else { jump - 1 };
+                        let top = (i32::from(base) + tooth).min(65535) as u16;
+                        if u % 2 == 1 {
+                            top
+                        } else {
+                            base
+                        }
+                    })
+                    .collect();
+                rows.push(row);
+            }
+            rows.push((0..WIDTH).map(|_| (next() % 2100) as u16).collect());
+            rows.push((0..WIDTH).map(|_| next() as u16).collect());
+            warp.jump_raw = jump;
+            for row in &rows {
+                let by_hand: Vec<(usize, bool)> = (0..WIDTH - 1)
+                    .filter_map(|u| {
+                        let step = i32::from(row[u + 1]) - i32::from(row[u]);
+                        (step.abs() >= jump).then_some((u, step > 0))
+                    })
+                    .collect();
+                warp.edge_list.clear();
+                warp.find_edges(row);
+                assert_eq!(warp.edge_list, by_hand, "jump {jump}");
+                assert!(
+                    !by_hand.is_empty() || jump > 2047,
+                    "the row tries no edge (jump {jump})"
+                );
+            }
+        }
+    }
 
     #[test]
     fn rgb_rows_two_ir_rows_land_on_start_their_strip_at_the_colour_edge_too() {
