@@ -1343,7 +1343,9 @@ fn rgb_mean3(rgb: &[u8], x: f64, y: f64) -> Option<[i32; 3]> {
     for i in cols {
         (0..3).for_each(|k| sum[k] += i32::from(rgb[3 * (row + i) + k]));
     }
-    Some(sum.map(|s| s / n))
+    // Sums are never negative, and a division by a constant is a multiply (by `n` it is an
+    // integer division, three a probe, on the colour split's busiest path).
+    Some(sum.map(|s| if n == 3 { s / 3 } else { s / n }))
 }
 
 /// Brightness (R + G + B) of a background at and above which the colour steps apply as they are
