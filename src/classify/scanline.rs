@@ -1587,10 +1587,15 @@ fn depthless_occluder(
     // a pole, five rows high): the rod that casts it stands over more rows than that.
     let hidden = h.start > 0 && !p.on_background(raw[h.start - 1], d_bg);
     if hidden {
-        let alike = rows
-            .within(raw.len(), HIDDEN_PAIR_ROWS)
-            .filter(|row| repeats(row));
-        if alike.count() < 2 * HIDDEN_PAIR_ROWS {
+        // Nearest rows first (the rows just beside passed above), so a blob stops early.
+        let mut alike = 0;
+        for row in rows.within(raw.len(), HIDDEN_PAIR_ROWS).skip(2) {
+            if !repeats(row) {
+                return Detached::No;
+            }
+            alike += 1;
+        }
+        if alike < 2 * (HIDDEN_PAIR_ROWS - 1) {
             return Detached::No;
         }
     }
