@@ -1587,6 +1587,17 @@ fn depthless_occluder(
     // a pole, five rows high): the rod that casts it stands over more rows than that.
     let hidden = h.start > 0 && !p.on_background(raw[h.start - 1], d_bg);
     if hidden {
+        // Beside a nearer surface a hole pairs as readily with another object's detached shadow
+        // as with a rod: a measured rod right of the "occluder" that casts it takes it.
+        if occluder.end < raw.len() {
+            let (oa, ob) = (
+                bound_left(raw, occluder.start),
+                bound_right(raw, occluder.end),
+            );
+            if let Detached::Measured = detached(p, raw, occluder, Some(oa), ob, rows) {
+                return Detached::No;
+            }
+        }
         // Nearest rows first (the rows just beside passed above), so a blob stops early.
         let mut alike = 0;
         for row in rows.within(raw.len(), HIDDEN_PAIR_ROWS).skip(2) {
@@ -1980,6 +1991,28 @@ mod tests {
         let (labels, filled) = run_with_neighbours(&around, &row, &around);
         assert_run(&labels, 275..279, OTHER);
         assert_eq!(filled[303], raw_at(&c, 3.0), "no rod placed");
+    }
+
+    #[test]
+    fn hole_beside_a_nearer_box_is_no_hidden_shadow_of_a_measured_rods_shadow() {
+        // A measured rod at 1 m over [300, 308) casts its detached shadow [270, 279) on the wall
+        // at 3 m. A box at 0.8 m over [250, 262) has a 4 px dropout beside it, [262, 266). Read
+        // as the hidden part of a depthless occluder's shadow, the dropout pairs with the rod's
+        // shadow: 4 px against 9, shift 279 − 266 = 13 px, 5 px hidden behind the box's 12. But
+        // that hole is the rod's shadow (eqs. 4–5 hold for it), not an occluder.
+        let (c, _) = params();
+        let mut row = wall_with_holes(&c, &[(262, 266), (270, 279)]);
+        row[250..262].fill(raw_at(&c, 0.8));
+        row[300..308].fill(raw_at(&c, 1.0));
+        let around = row.repeat(HIDDEN_PAIR_ROWS);
+        let (labels, filled) = run_with_neighbours(&around, &row, &around);
+        assert_run(&labels, 270..279, DETACHED);
+        assert_run(&labels, 262..266, OTHER);
+        assert_eq!(
+            filled[274],
+            raw_at(&c, 3.0),
+            "the rod's shadow stays on the wall"
+        );
     }
 
     #[test]
