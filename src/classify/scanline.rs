@@ -1635,9 +1635,9 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
         return None;
     }
     // A nearer surface left of the shadow may hide its left part, as the border does (a black
-    // rod beside a box before a wall: complex IR detached F1 +0.011 and +0.004 on two of this
-    // project's suites, RGB any-shadow recall +0.013 and +0.003; nothing else moved by more
-    // than 0.0001 on thirteen).
+    // rod beside a box before a wall: complex IR detached F1 +0.011, +0.007 and +0.004 on three
+    // of this project's suites, RGB any-shadow recall +0.013, +0.013 and +0.003; the other
+    // fifteen within 0.0001).
     let nearer_left = !at_left && !background(h.start - 1) && {
         let r = raw[h.start - 1];
         r != NO_DEPTH && p.disp(r) > d_bg
