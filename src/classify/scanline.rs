@@ -1585,7 +1585,7 @@ fn depthless_occluder(
     // A shadow whose left part a nearer surface hides may be any hole that happens to lie
     // beside that surface (on a real frame, the top rows of a translucent bin's dropouts beside
     // a pole, five rows high): the rod that casts it stands over more rows than that.
-    let hidden = h.start > 0 && !p.on_background(raw[h.start - 1], d_bg);
+    let hidden = nearer_left_of(p, raw, h, d_bg);
     if hidden {
         // Beside a nearer surface a hole pairs as readily with another object's detached shadow
         // as with a rod: a measured rod right of the "occluder" that casts it takes it.
@@ -1638,10 +1638,7 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
     // rod beside a box before a wall: complex IR detached F1 +0.011, +0.007 and +0.004 on three
     // of this project's suites, RGB any-shadow recall +0.013, +0.013 and +0.003; the other
     // fifteen within 0.0001).
-    let nearer_left = !at_left && !background(h.start - 1) && {
-        let r = raw[h.start - 1];
-        r != NO_DEPTH && p.disp(r) > d_bg
-    };
+    let nearer_left = nearer_left_of(p, raw, h, d_bg);
     if !((at_left || nearer_left || background(h.start - 1))
         && background(h.end)
         && background(start - 1)
@@ -1704,6 +1701,16 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
         (end - h.end) as f32
     };
     (d_bg + shift <= p.max_disp).then_some((shift, Run { start, end }))
+}
+
+/// Whether the pixel left of shadow `h` is a surface nearer than the background (disparity
+/// `d_bg`) rather than the background itself: one that may hide the shadow's left part. The one
+/// reading of [`hole_pair`] and [`depthless_occluder`].
+fn nearer_left_of(p: &ScanParams, raw: &[u16], h: Run, d_bg: f32) -> bool {
+    h.start > 0 && {
+        let r = raw[h.start - 1];
+        r != NO_DEPTH && !p.on_background(r, d_bg) && p.disp(r) > d_bg
+    }
 }
 
 /// The hole run that ends at most `reach` pixels left of `start`, with only valid pixels between.
