@@ -1144,7 +1144,9 @@ fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> 
     // Or a hole that a surface right of it, nearer than the background, explains as its
     // attached shadow on the background (eq. 3, within its tolerance), but not as its shadow on
     // the occluder (wider than that by more than the widening, or the surface is farther than
-    // the occluder): had the occluder gone on behind the hole, it would show there.
+    // the occluder): had the occluder gone on behind the hole, it would show there. A surface
+    // at the occluder's own depth is that occluder going on past a hole in it (a dropout,
+    // another rod's shadow on it), not a second object at the very same depth.
     let shadowed_after = |row: &[u16], end: usize| {
         let next = end + row[end..].iter().take_while(|&&r| r == NO_DEPTH).count();
         row[end] == NO_DEPTH && next < row.len() && {
@@ -1152,7 +1154,8 @@ fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> 
             let occluder_end = d_occ.min(p.disp(row[end - 1]));
             let on_occluder = p.disp(bound_right(row, next).near) - occluder_end;
             let width = (next - end) as f32;
-            on_occluder + w >= p.min_step
+            on_occluder.abs() >= p.min_step
+                && on_occluder + w >= p.min_step
                 && width > on_occluder + WIDENING + 1.0
                 && width <= on_occluder + w + p.over
         }
@@ -3024,6 +3027,28 @@ mod tests {
             assert_run(row, 337..345, DETACHED);
             assert_run(row, 371..380, DETACHED);
             assert_run(row, 388..400, ATTACHED);
+        }
+    }
+
+    #[test]
+    fn rod_with_a_hole_then_its_own_depth_on_its_right_goes_on_behind_the_hole() {
+        // A 6 px run [300, 306) at 1.645 m before a wall at 3 m (shift 12 px), then a 10 px hole
+        // and the same depth again from 316 on: one surface with a hole in it (a dropout,
+        // another rod's shadow on it), not a 6 px rod whose lit gap a second object at the
+        // very same depth shadows. The hole [288, 300) left of it is its attached shadow.
+        let (c, p) = params();
+        let mut raw = vec![raw_at(&c, 3.0); PIXELS];
+        for v in 0..HEIGHT {
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            row[288..300].fill(NO_DEPTH);
+            row[300..370].fill(raw_at(&c, 1.645));
+            row[306..316].fill(NO_DEPTH);
+        }
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        for v in [1, 100, 241, 478] {
+            let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
+            assert!(hole.iter().all(|&l| l == ATTACHED), "row {v}: {hole:?}");
         }
     }
 
