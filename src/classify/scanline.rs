@@ -1160,7 +1160,11 @@ fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> 
                 && width <= on_occluder + w + p.over
         }
     };
-    if !background_after(raw, end) && !shadowed_after(raw, end) {
+    // Or a step back to a surface between it and the background (a box it stands before): it
+    // ends there too, and narrower than its shift by more than the tie it is thin whatever
+    // hides the lit gap (that box's own shadow, say).
+    let ends_clearly_thin = raw[end] != NO_DEPTH && (end - sb) as f32 + TIE < w;
+    if !background_after(raw, end) && !shadowed_after(raw, end) && !ends_clearly_thin {
         // Another hole (a black object behind it, say) hides where the occluder ends here: its
         // width is read in the nearest rows above or below where the background shows, and
         // within TIE of the shift it takes a lit gap near this row, as below.
@@ -3070,6 +3074,30 @@ mod tests {
         }
         classify_frame(&p, &raw, &mut labels, &mut filled);
         for v in [101, 201, 229, 259, 301] {
+            let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
+            assert!(hole.iter().all(|&l| l == DETACHED), "row {v}: {hole:?}");
+        }
+    }
+
+    #[test]
+    fn rod_clearly_narrower_than_its_shift_is_thin_before_a_farther_box_too() {
+        // A 6 px rod [300, 306) at 1.645 m before a wall at 3 m: shift 12 px, twice its width,
+        // so its shadow [288, 294) is detached (SPEC §1). A box at 2.2 m starts behind it, at
+        // column 300: its own attached shadow, 43.7·(1/2.2 − 1/3) = 5.3 px wide, [294.7, 300),
+        // covers the lit gap, so the hole [288, 300) touches the rod, and right of the rod the
+        // box shows, not the wall. The rod still ends at 306, at a step back to the box: its
+        // width is measured there, and it is thin.
+        let (c, p) = params();
+        let mut raw = vec![raw_at(&c, 3.0); PIXELS];
+        for v in 0..HEIGHT {
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            row[288..300].fill(NO_DEPTH);
+            row[300..306].fill(raw_at(&c, 1.645));
+            row[306..360].fill(raw_at(&c, 2.2));
+        }
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        for v in [1, 100, 241, 478] {
             let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
             assert!(hole.iter().all(|&l| l == DETACHED), "row {v}: {hole:?}");
         }
