@@ -3044,6 +3044,27 @@ mod tests {
         }
     }
 
+    /// A wall at 3 m in every row, with `draw(v, row)` painted over row `v`: the labels
+    /// `classify_frame` gives that frame.
+    fn wall_frame(draw: impl Fn(usize, &mut [u16])) -> Vec<u8> {
+        let (c, p) = params();
+        let mut raw = vec![raw_at(&c, 3.0); PIXELS];
+        for (v, row) in raw.chunks_exact_mut(WIDTH).enumerate() {
+            draw(v, row);
+        }
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        labels
+    }
+
+    /// Asserts that columns `cols` of each row in `rows` all hold `code`.
+    fn assert_rows(labels: &[u8], rows: &[usize], cols: std::ops::Range<usize>, code: u8) {
+        for &v in rows {
+            let span = &labels[v * WIDTH + cols.start..v * WIDTH + cols.end];
+            assert!(span.iter().all(|&l| l == code), "row {v}: {span:?}");
+        }
+    }
+
     #[test]
     fn rod_within_the_tie_of_its_shift_is_judged_alike_where_a_hole_hides_its_end() {
         // A 10 px rod [300, 310) at 1.645 m before a wall at 3 m: shift 12 px, within the 3 px
@@ -3052,31 +3073,25 @@ mod tests {
         // attached where the wall shows right of the rod. In rows 200..260 a hole [310, 330)
         // (another rod's shadow) hides where the rod ends; its width is read in the rows
         // around, and the same tie holds: attached there too, not detached.
-        let (c, p) = params();
-        let mut raw = vec![raw_at(&c, 3.0); PIXELS];
-        for v in 0..HEIGHT {
-            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
-            row[288..300].fill(NO_DEPTH);
-            row[300..310].fill(raw_at(&c, 1.645));
-            if (200..260).contains(&v) {
-                row[310..330].fill(NO_DEPTH);
+        let (c, _) = params();
+        let rod = |gap_every: Option<usize>| {
+            move |v: usize, row: &mut [u16]| {
+                row[288..300].fill(NO_DEPTH);
+                row[300..310].fill(raw_at(&c, 1.645));
+                if (200..260).contains(&v) {
+                    row[310..330].fill(NO_DEPTH);
+                }
+                // A lit gap [298, 300) in every `gap_every`-th row.
+                if gap_every.is_some_and(|k| v.is_multiple_of(k)) {
+                    row[298..300].fill(raw_at(&c, 3.0));
+                }
             }
-        }
-        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
-        classify_frame(&p, &raw, &mut labels, &mut filled);
-        for v in [100, 201, 229, 259, 300] {
-            let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
-            assert!(hole.iter().all(|&l| l == ATTACHED), "row {v}: {hole:?}");
-        }
-        // A lit gap [298, 300) in every fourth row breaks the tie: detached in every row.
-        for v in (0..HEIGHT).step_by(4) {
-            raw[v * WIDTH + 298..v * WIDTH + 300].fill(raw_at(&c, 3.0));
-        }
-        classify_frame(&p, &raw, &mut labels, &mut filled);
-        for v in [101, 201, 229, 259, 301] {
-            let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
-            assert!(hole.iter().all(|&l| l == DETACHED), "row {v}: {hole:?}");
-        }
+        };
+        let labels = wall_frame(rod(None));
+        assert_rows(&labels, &[100, 201, 229, 259, 300], 288..300, ATTACHED);
+        // A lit gap in every fourth row breaks the tie: detached in every row.
+        let labels = wall_frame(rod(Some(4)));
+        assert_rows(&labels, &[101, 201, 229, 259, 301], 288..300, DETACHED);
     }
 
     #[test]
@@ -3087,20 +3102,13 @@ mod tests {
         // covers the lit gap, so the hole [288, 300) touches the rod, and right of the rod the
         // box shows, not the wall. The rod still ends at 306, at a step back to the box: its
         // width is measured there, and it is thin.
-        let (c, p) = params();
-        let mut raw = vec![raw_at(&c, 3.0); PIXELS];
-        for v in 0..HEIGHT {
-            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+        let (c, _) = params();
+        let labels = wall_frame(|_, row| {
             row[288..300].fill(NO_DEPTH);
             row[300..306].fill(raw_at(&c, 1.645));
             row[306..360].fill(raw_at(&c, 2.2));
-        }
-        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
-        classify_frame(&p, &raw, &mut labels, &mut filled);
-        for v in [1, 100, 241, 478] {
-            let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
-            assert!(hole.iter().all(|&l| l == DETACHED), "row {v}: {hole:?}");
-        }
+        });
+        assert_rows(&labels, &[1, 100, 241, 478], 288..300, DETACHED);
     }
 
     #[test]
@@ -3109,20 +3117,13 @@ mod tests {
         // and the same depth again from 316 on: one surface with a hole in it (a dropout,
         // another rod's shadow on it), not a 6 px rod whose lit gap a second object at the
         // very same depth shadows. The hole [288, 300) left of it is its attached shadow.
-        let (c, p) = params();
-        let mut raw = vec![raw_at(&c, 3.0); PIXELS];
-        for v in 0..HEIGHT {
-            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+        let (c, _) = params();
+        let labels = wall_frame(|_, row| {
             row[288..300].fill(NO_DEPTH);
             row[300..370].fill(raw_at(&c, 1.645));
             row[306..316].fill(NO_DEPTH);
-        }
-        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
-        classify_frame(&p, &raw, &mut labels, &mut filled);
-        for v in [1, 100, 241, 478] {
-            let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
-            assert!(hole.iter().all(|&l| l == ATTACHED), "row {v}: {hole:?}");
-        }
+        });
+        assert_rows(&labels, &[1, 100, 241, 478], 288..300, ATTACHED);
     }
 
     #[test]
