@@ -23,10 +23,7 @@ impl HoleMask {
         for (word, chunk) in words.iter_mut().zip(raw.chunks(64)) {
             *word = match <&[u16; 64]>::try_from(chunk) {
                 Ok(full) => word_of(full),
-                Err(_) => chunk
-                    .iter()
-                    .enumerate()
-                    .fold(0u64, |m, (j, &r)| m | (u64::from(r == NO_DEPTH) << j)),
+                Err(_) => fold_word(chunk),
             };
         }
         HoleMask {
@@ -140,6 +137,13 @@ fn word_of(chunk: &[u16; 64]) -> u64 {
 #[cfg(not(target_arch = "x86_64"))]
 #[inline(always)]
 fn word_of(chunk: &[u16; 64]) -> u64 {
+    fold_word(chunk)
+}
+
+/// The hole bits of up to 64 pixels, one compare and shift each: a row's short last chunk, and
+/// every chunk where SSE2 is not at hand.
+#[inline(always)]
+fn fold_word(chunk: &[u16]) -> u64 {
     chunk
         .iter()
         .enumerate()
