@@ -1036,6 +1036,9 @@ const MIN_STEP_OVER: usize = 6;
 /// suites), with no precision lost; two, nothing more.
 const MAX_PASSED_OBJECTS: usize = 1;
 
+/// Occluders whose shadows one merged hole may hold (rods side by side, a post and its bracket).
+const MAX_CHAINED: usize = 4;
+
 /// Outcome of [`detached`].
 enum Detached {
     /// Not a detached shadow.
@@ -1423,6 +1426,10 @@ fn detached(
     let mut gap_holes = 0;
     let mut stepped = 0;
     let mut passed = 0;
+    // Right end (pixels) of the shadows of a chain of occluders whose first fits eq. (4) and
+    // whose shadows overlap: thin objects side by side cast one merged hole (SPEC §1).
+    let mut chain: Option<f32> = None;
+    let mut chained = 0;
     let mut next_skip = u;
     while u < stop {
         // Most of the search crosses plain background: skip 16 pixels at a time when none of
@@ -1527,11 +1534,37 @@ fn detached(
             // widening of its right end): the tolerances of both equations must not add up.
             let cut_fits =
                 hidden == 0.0 || (h.end - h.start) as f32 <= (fb + 1 - fa) as f32 + WIDENING + 1.0;
-            if (-p.tol - hidden..=p.tol + WIDENING).contains(&(e4 - 1.0))
-                && (-p.tol - WIDENING..=p.tol).contains(&(e5 + 1.0))
-                && cut_fits
-            {
+            let fits4 = (-p.tol - hidden..=p.tol + WIDENING).contains(&(e4 - 1.0));
+            let fits5 = (-p.tol - WIDENING..=p.tol).contains(&(e5 + 1.0));
+            if fits4 && fits5 && cut_fits {
                 return Detached::Measured;
+            }
+            // Where this occluder's shadow ends (eq. 5 with Fb − Sb solved for Sb).
+            let shadow_end = h.end as f32 + e5;
+            // Eq. (4) solved for Sa: where its shadow starts.
+            let shadow_start = h.start as f32 - 1.0 + e4;
+            match chain {
+                // A merged hole: the first occluder's shadow fits its left end and stops short
+                // of its right end, so the next occluder's shadow goes on from there.
+                None if fits4 && hidden == 0.0 && e5 + 1.0 < -p.tol - WIDENING => {
+                    chain = Some(shadow_end);
+                    chained = 1;
+                    u = fb + 1;
+                    continue;
+                }
+                Some(end) if shadow_start <= end + 1.0 + p.tol && chained < MAX_CHAINED => {
+                    if fits5 {
+                        return Detached::Measured;
+                    }
+                    if e5 + 1.0 > p.tol {
+                        return Detached::No;
+                    }
+                    chain = Some(end.max(shadow_end));
+                    chained += 1;
+                    u = fb + 1;
+                    continue;
+                }
+                _ => {}
             }
             // Not this one: the projector's ray may have passed beside it to an occluder further
             // right (a thin rod before a box, the box's own shadow between them).
@@ -3109,6 +3142,25 @@ mod tests {
             row[306..360].fill(raw_at(&c, 2.2));
         });
         assert_rows(&labels, &[1, 100, 241, 478], 288..300, DETACHED);
+    }
+
+    #[test]
+    fn two_rods_side_by_side_cast_one_detached_hole() {
+        // Rod A at 0.8 m, 22 px [300, 322): shift 43.67·(1/0.8 − 1/3) = 40.0 px, shadow
+        // [260, 282). Rod B at 0.75 m, 12 px [322, 334), before A's right end: shift 43.67 px,
+        // shadow [278.3, 290.3), and its attached shadow on A, 43.67·(1/0.75 − 1/0.8) = 3.6 px,
+        // hides A's last four columns [318, 322). The two detached shadows overlap into one
+        // hole [260, 290); the lit gap [290, 300) stays lit. Neither rod alone fits both of its
+        // ends (eqs. 4–5): A its left, B its right.
+        let (c, _) = params();
+        let labels = wall_frame(|_, row| {
+            row[260..290].fill(NO_DEPTH);
+            row[300..318].fill(raw_at(&c, 0.8));
+            row[318..322].fill(NO_DEPTH);
+            row[322..334].fill(raw_at(&c, 0.75));
+        });
+        assert_rows(&labels, &[1, 100, 241, 478], 260..290, DETACHED);
+        assert_rows(&labels, &[1, 100, 241, 478], 318..322, ATTACHED);
     }
 
     #[test]
