@@ -408,17 +408,26 @@ impl ColourSplit {
                 if let Some((c, (s, shift))) = split {
                     // An open candidate is read only so far into its hole, but the occluder may
                     // run on to the hole's end: where the RGB camera sees its right edge there
-                    // at the same shift, its depth runs on too (its alignment shadow opens).
-                    // That edge may read short of the shadow's shift by up to a quarter of it
-                    // (a broad glossy cylinder's: 31 against 41 px in a simulator written from
-                    // SPEC alone, whose strip was lost in every row), never much beyond it.
-                    let runs_on = !c.closed
-                        && c.b < b
-                        && self
-                            .agreed_right_edge(raw, rgb, labels, v, (a, b), &mut prefix)
-                            .is_some_and(|t| {
-                                t <= shift + EDGE_AGREE && t + EDGE_AGREE.max(shift / 4) >= shift
-                            });
+                    // at about the same shift, its depth runs on too (its alignment shadow
+                    // opens). That edge may read short of the shadow's shift by up to a quarter
+                    // of it (a broad glossy cylinder's: 31 against 41 px in a simulator written
+                    // from SPEC alone, whose strip was lost in every row), or beyond it up to
+                    // twice (a black box turned to the camera: its right edge nearer than its
+                    // left; the same simulator, 27 against 17–21 px). A closed candidate's
+                    // right edge is read too: a box turned away has it farther than its left
+                    // (down to half the shift).
+                    let edge = (c.closed || c.b < b)
+                        .then(|| self.agreed_right_edge(raw, rgb, labels, v, (a, b), &mut prefix))
+                        .flatten()
+                        .filter(|&t| {
+                            t <= (shift + EDGE_AGREE).max(2 * shift)
+                                && if c.closed {
+                                    2 * t >= shift
+                                } else {
+                                    t + EDGE_AGREE.max(shift / 4) >= shift
+                                }
+                        });
+                    let runs_on = !c.closed && edge.is_some();
                     let end = if runs_on { b } else { c.b };
                     // An occluder narrower than its shift lets the projector light background
                     // between it and its shadow (eqs. 4–5): detached. When the lit gap is a
@@ -469,7 +478,21 @@ impl ColourSplit {
                     }
                     // The occluder's pixels get its depth.
                     if occluder {
-                        filled[v * WIDTH + c.a + s..v * WIDTH + end].fill(at);
+                        let span = &mut filled[v * WIDTH + c.a + s..v * WIDTH + end];
+                        match edge {
+                            // A face at an angle to the camera: each edge at its own shift,
+                            // the depth between them on a line (the nearest corner of a turned
+                            // box lies between them, so this is the farther reading there).
+                            Some(t) if t.abs_diff(shift) > EDGE_AGREE && span.len() > 1 => {
+                                let last = (span.len() - 1) as f64;
+                                let d0 = self.disp(c.bg) + shift as f64 - widen;
+                                let step = (t as f64 - shift as f64) / last;
+                                for (k, f) in span.iter_mut().enumerate() {
+                                    *f = self.raw_at_disp(d0 + step * k as f64);
+                                }
+                            }
+                            _ => span.fill(at),
+                        }
                     }
                 }
                 u = mask.next_hole(b.max(u + 1));
@@ -922,15 +945,25 @@ impl ColourSplit {
         let (misses, o1) = (lowest..=highest)
             .map(|o| (misses(o), o))
             .min_by_key(|&(m, o)| (m, std::cmp::Reverse(o)))?;
-        let (mut t, mut hi) = (3, widest);
-        while t < hi {
-            let mid = (t + hi) / 2;
-            if edge(mid) > o1 {
-                t = mid + 1;
-            } else {
-                hi = mid;
+        // The smallest shift whose edge lands at or left of column `col`.
+        let first_at = |col: usize, lo: usize| {
+            let (mut t, mut hi) = (lo, widest + 1);
+            while t < hi {
+                let mid = (t + hi) / 2;
+                if edge(mid) > col {
+                    t = mid + 1;
+                } else {
+                    hi = mid;
+                }
             }
-        }
+            t
+        };
+        let t = first_at(o1, 3).min(widest);
+        // Every shift up to the one that moves the edge a column further lands on `o1` (one RGB
+        // column is about 3.4 px of shift): the middle of them, not the smallest, unbiased.
+        // (At column 0 the edge is clamped: no such range.)
+        let past = if o1 == 0 { t + 1 } else { first_at(o1 - 1, t) };
+        let t = (t + past.max(t + 1) - 1) / 2;
         Some((misses, t, o1))
     }
 
