@@ -945,26 +945,23 @@ impl ColourSplit {
         let (misses, o1) = (lowest..=highest)
             .map(|o| (misses(o), o))
             .min_by_key(|&(m, o)| (m, std::cmp::Reverse(o)))?;
-        // The smallest shift whose edge lands at or left of column `col`.
-        let first_at = |col: usize, lo: usize| {
-            let (mut t, mut hi) = (lo, widest + 1);
-            while t < hi {
-                let mid = (t + hi) / 2;
-                if edge(mid) > col {
-                    t = mid + 1;
-                } else {
-                    hi = mid;
-                }
+        let (mut t, mut hi) = (3, widest);
+        while t < hi {
+            let mid = (t + hi) / 2;
+            if edge(mid) > o1 {
+                t = mid + 1;
+            } else {
+                hi = mid;
             }
-            t
-        };
-        let t = first_at(o1, 3).min(widest);
+        }
         // Every shift up to the one that moves the edge a column further lands on `o1` (one RGB
-        // column is about 3.4 px of shift): the middle of them, not the smallest, unbiased.
-        // (At column 0 the edge is clamped: no such range.)
-        let past = if o1 == 0 { t + 1 } else { first_at(o1 - 1, t) };
-        let t = (t + past.max(t + 1) - 1) / 2;
-        Some((misses, t, o1))
+        // column is about 3.4 px of shift, so a few steps): the middle of them, not the
+        // smallest, unbiased. (At column 0 the edge is clamped: no such range.)
+        let mut past = t + 1;
+        while o1 > 0 && past <= widest && edge(past) >= o1 {
+            past += 1;
+        }
+        Some((misses, (t + past - 1) / 2, o1))
     }
 
     /// [`ColourSplit::split`], remembered for the rows around the current one.
