@@ -1535,7 +1535,15 @@ fn detached(
             let cut_fits =
                 hidden == 0.0 || (h.end - h.start) as f32 <= (fb + 1 - fa) as f32 + WIDENING + 1.0;
             let fits4 = (-p.tol - hidden..=p.tol + WIDENING).contains(&(e4 - 1.0));
-            let fits5 = (-p.tol - WIDENING..=p.tol).contains(&(e5 + 1.0));
+            // An occluder running off the right border shows only part of its width: its
+            // shadow may end further right than what shows of it casts (never further left).
+            let cut = fb + 1 == n;
+            let fits5 = (if cut {
+                f32::NEG_INFINITY
+            } else {
+                -p.tol - WIDENING
+            }..=p.tol)
+                .contains(&(e5 + 1.0));
             if fits4 && fits5 && cut_fits {
                 return Detached::Measured;
             }
@@ -3183,6 +3191,20 @@ mod tests {
         });
         assert_rows(&labels, &[4, 100, 241, 475], 300..311, DETACHED);
         assert_rows(&labels, &[1, 100, 241, 478], 193..200, ATTACHED);
+    }
+
+    #[test]
+    fn rod_running_off_the_right_border_keeps_its_detached_shadow() {
+        // A rod at 0.6 m, 50 px wide [600, 650), before a wall at 3 m: shift
+        // 43.67·(1/0.6 − 1/3) = 58.2 px, shadow [541.8, 591.8), lit gap [592, 600). The camera
+        // sees only [600, 640) of it: eq. (5) from what shows puts the shadow's end 10 px
+        // short of where it is. The part beyond the border casts the rest.
+        let (c, _) = params();
+        let labels = wall_frame(|_, row| {
+            row[542..592].fill(NO_DEPTH);
+            row[600..640].fill(raw_at(&c, 0.6));
+        });
+        assert_rows(&labels, &[1, 100, 241, 478], 542..592, DETACHED);
     }
 
     #[test]
