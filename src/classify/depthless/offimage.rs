@@ -63,13 +63,24 @@ impl ColourSplit {
             return false;
         }
         // Nearest rows first: the sensor's dropouts (most holes of a real frame) fail there.
-        let around = (1..=ROWS_AROUND).flat_map(|k| [v.wrapping_sub(k), v + k]);
+        // Each row's hole is held to this row's, or to the one next to it towards `v`, so a
+        // slanted shadow (a tilted rod's, its ends moving a pixel or so a row) holds too.
         let mut unlike = 0;
-        for w in around {
-            if w >= HEIGHT || !self.same_hole_in(raw, w, (a, b)) {
-                unlike += 1;
-                if unlike > 2 * ROWS_AROUND - ROWS_ALIKE {
-                    return false;
+        let mut last = [(a, b); 2];
+        for k in 1..=ROWS_AROUND {
+            for (side, w) in [v.wrapping_sub(k), v + k].into_iter().enumerate() {
+                let same = |ends| self.same_hole_in(raw, w, ends);
+                match (w < HEIGHT)
+                    .then(|| same((a, b)).or_else(|| same(last[side])))
+                    .flatten()
+                {
+                    Some(span) => last[side] = span,
+                    None => {
+                        unlike += 1;
+                        if unlike > 2 * ROWS_AROUND - ROWS_ALIKE {
+                            return false;
+                        }
+                    }
                 }
             }
         }
@@ -114,14 +125,17 @@ impl ColourSplit {
         2 * seen >= a - from
     }
 
-    /// True when row `w` holds a hole whose ends lie within [`ENDS_AGREE`] of `a` and `b`.
-    fn same_hole_in(&self, raw: &[u16], w: usize, (a, b): (usize, usize)) -> bool {
+    /// The hole of row `w` whose ends lie within [`ENDS_AGREE`] of `a` and `b`, if any.
+    fn same_hole_in(
+        &self,
+        raw: &[u16],
+        w: usize,
+        (a, b): (usize, usize),
+    ) -> Option<(usize, usize)> {
         let row = &raw[w * WIDTH..(w + 1) * WIDTH];
-        let Some(u) = (a..b).find(|&u| row[u] == NO_DEPTH) else {
-            return false;
-        };
+        let u = (a..b).find(|&u| row[u] == NO_DEPTH)?;
         let (a2, b2) = hole_span(&self.masks[w], row, u);
-        a2.abs_diff(a) <= ENDS_AGREE && b2.abs_diff(b) <= ENDS_AGREE
+        (a2.abs_diff(a) <= ENDS_AGREE && b2.abs_diff(b) <= ENDS_AGREE).then_some((a2, b2))
     }
 
     /// Where the lit surface right of a hole ending at `b` stops, if by column `limit`: the
