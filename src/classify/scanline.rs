@@ -1536,7 +1536,15 @@ fn detached(
             // widening of its right end): the tolerances of both equations must not add up.
             let cut_fits =
                 hidden == 0.0 || (h.end - h.start) as f32 <= (fb + 1 - fa) as f32 + WIDENING + 1.0;
-            let fits4 = (-p.tol - hidden..=p.tol + WIDENING).contains(&(e4 - 1.0));
+            // A nearer object just left of the occluder (a rod before a rod) may hide the
+            // occluder's left edge, up to its own width: its shadow may start that much further
+            // left than what shows of it casts (never further right).
+            let behind = raw[..fa]
+                .iter()
+                .rev()
+                .take_while(|&&r| r != NO_DEPTH && p.disp(r) > d_fa + p.min_step)
+                .count() as f32;
+            let fits4 = (-p.tol - hidden..=p.tol + WIDENING + behind).contains(&(e4 - 1.0));
             // An occluder running off the right border shows only part of its width: its
             // shadow may end further right than what shows of it casts (never further left).
             let cut = fb + 1 == n;
@@ -3223,6 +3231,24 @@ mod tests {
             row[308..360].fill(raw_at(&c, 2.4));
         });
         assert_rows(&labels, &[1, 100, 241, 478], 288..300, ATTACHED);
+    }
+
+    #[test]
+    fn rod_half_hidden_behind_a_nearer_rod_keeps_its_detached_shadow() {
+        // Before a wall at 3 m: rod A at 0.8 m over [300, 312) (shift 43.67·(1/0.8 − 1/3) =
+        // 40.0 px, shadow [260, 272)), and rod B at 1.2 m over [302, 316) (shift 21.8 px,
+        // shadow [280.2, 294.2)), whose first 10 columns A hides. From what shows of B,
+        // [312, 316), its shadow would start 10 px further right than it does; A's width
+        // bounds how much of B it can hide.
+        let (c, _) = params();
+        let labels = wall_frame(|_, row| {
+            row[260..272].fill(NO_DEPTH);
+            row[280..294].fill(NO_DEPTH);
+            row[300..312].fill(raw_at(&c, 0.8));
+            row[312..316].fill(raw_at(&c, 1.2));
+        });
+        assert_rows(&labels, &[1, 100, 241, 478], 260..272, DETACHED);
+        assert_rows(&labels, &[1, 100, 241, 478], 280..294, DETACHED);
     }
 
     #[test]
