@@ -325,6 +325,14 @@ fn rod_off_the_right_border(scene: &Scene) -> (SynthFrame, Classified, Classifie
     (frame, depth_only, out)
 }
 
+/// Tilts the rod of a [`Scene::rod_before_wall`] scene by `degrees` in the image plane.
+fn tilt_rod(scene: &mut Scene, degrees: f64) {
+    let tilt = degrees.to_radians();
+    if let umbra::synth::Shape::Cylinder { axis, .. } = &mut scene.objects[1].shape {
+        *axis = nalgebra::Vector3::new(tilt.sin(), tilt.cos(), 0.0);
+    }
+}
+
 #[test]
 fn detached_shadow_of_a_rod_beyond_the_right_border_is_told_by_colour() {
     let calib = Calibration::nyu_default();
@@ -373,10 +381,7 @@ fn slanted_detached_shadow_of_a_rod_beyond_the_right_border_is_told_by_colour() 
     // 0.870 before either was allowed for, 0.947 after (floor 0.93).
     let calib = Calibration::nyu_default();
     let mut scene = Scene::rod_before_wall(0.62, 1.0, 0.01, 3.0);
-    let tilt = 20f64.to_radians();
-    if let umbra::synth::Shape::Cylinder { axis, .. } = &mut scene.objects[1].shape {
-        *axis = nalgebra::Vector3::new(tilt.sin(), tilt.cos(), 0.0);
-    }
+    tilt_rod(&mut scene, 20.0);
     let mut c = Confusion::default();
     for seed in 0..2 {
         let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 30 + seed);
@@ -840,10 +845,7 @@ fn slanted_glossy_cylinder_gets_its_alignment_strip_from_its_right_edge() {
     // very same column, most rows lost their strip (alignment F1 0.62).
     let calib = Calibration::nyu_default();
     let mut scene = Scene::rod_before_wall(0.0, 1.5, 0.12, 3.0);
-    let tilt = 25f64.to_radians();
-    if let umbra::synth::Shape::Cylinder { axis, .. } = &mut scene.objects[1].shape {
-        *axis = nalgebra::Vector3::new(tilt.sin(), tilt.cos(), 0.0);
-    }
+    tilt_rod(&mut scene, 25.0);
     scene.objects[1].material = umbra::synth::Material::glossy([0.6, 0.3, 0.25]);
     scene.push(
         "poster",
