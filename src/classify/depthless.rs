@@ -484,9 +484,10 @@ impl ColourSplit {
                             // the depth between them on a line (the nearest corner of a turned
                             // box lies between them, so this is the farther reading there).
                             Some(t) if t.abs_diff(shift) > EDGE_AGREE && span.len() > 1 => {
+                                // The left end's widening bears on the shadow's shift only.
                                 let last = (span.len() - 1) as f64;
                                 let d0 = self.disp(c.bg) + shift as f64 - widen;
-                                let step = (t as f64 - shift as f64) / last;
+                                let step = (self.disp(c.bg) + t as f64 - d0) / last;
                                 for (k, f) in span.iter_mut().enumerate() {
                                     *f = self.raw_at_disp(d0 + step * k as f64);
                                 }
