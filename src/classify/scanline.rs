@@ -1151,7 +1151,8 @@ fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> 
     // the occluder (wider than that by more than the widening, or the surface is farther than
     // the occluder): had the occluder gone on behind the hole, it would show there. A surface
     // at the occluder's own depth is that occluder going on past a hole in it (a dropout,
-    // another rod's shadow on it), not a second object at the very same depth.
+    // another rod's shadow on it), not a second object at the very same depth. Nor is a
+    // curved or slanted one (a sphere) whose slope, carried over the hole, lands there.
     let shadowed_after = |row: &[u16], end: usize| {
         let next = end + row[end..].iter().take_while(|&&r| r == NO_DEPTH).count();
         row[end] == NO_DEPTH && next < row.len() && {
@@ -1159,7 +1160,8 @@ fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> 
             let occluder_end = d_occ.min(p.disp(row[end - 1]));
             let on_occluder = p.disp(bound_right(row, next).near) - occluder_end;
             let width = (next - end) as f32;
-            on_occluder.abs() >= p.min_step
+            !occluder_goes_on(p, &row[sb..=next], end - sb)
+                && on_occluder.abs() >= p.min_step
                 && on_occluder + w >= p.min_step
                 && width > on_occluder + WIDENING + 1.0
                 && width <= on_occluder + w + p.over
@@ -1215,6 +1217,39 @@ fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> 
         occluder_seen |= occluder_in(row).is_some();
     }
     !occluder_seen
+}
+
+/// True when the surface right of a hole in an occluder is the occluder itself going on: `seg`
+/// holds the occluder's run up to `hole_at`, the hole, and the first valid pixel after it. That
+/// pixel must lie between the occluder's last depth and where the slope of the occluder's last
+/// pixels carries it (a sphere's limb flattens towards its middle), within a step either way.
+fn occluder_goes_on(p: &ScanParams, seg: &[u16], hole_at: usize) -> bool {
+    // Pixels fitted for the slope, the mixed pixel at the hole's edge left out.
+    const FIT: usize = 8;
+    if hole_at < 4 {
+        return false;
+    }
+    let first = hole_at.saturating_sub(FIT + 1);
+    let fit = &seg[first..hole_at - 1];
+    if fit.contains(&NO_DEPTH) {
+        return false;
+    }
+    // Least squares over the fit, about its middle.
+    let mid = (fit.len() - 1) as f32 / 2.0;
+    let mean = fit.iter().map(|&r| p.disp(r)).sum::<f32>() / fit.len() as f32;
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for (i, &r) in fit.iter().enumerate() {
+        let x = i as f32 - mid;
+        sxy += x * (p.disp(r) - mean);
+        sxx += x * x;
+    }
+    let slope = sxy / sxx;
+    // The fitted line at the hole's edge pixel, and carried on to the first pixel after it.
+    let at_edge = mean + slope * ((hole_at - 1 - first) as f32 - mid);
+    let last = seg.len() - 1;
+    let carried = at_edge + slope * (last - (hole_at - 1)) as f32;
+    let beyond = p.disp(seg[last]);
+    beyond >= at_edge.min(carried) - p.min_step && beyond <= at_edge.max(carried) + p.min_step
 }
 
 /// Rows searched either side for a lit gap between a shadow and its occluder.
@@ -3262,6 +3297,30 @@ mod tests {
             row[306..316].fill(NO_DEPTH);
         });
         assert_rows(&labels, &[1, 100, 241, 478], 288..300, ATTACHED);
+    }
+
+    #[test]
+    fn turned_board_whose_left_part_a_rods_shadow_cuts_short_keeps_its_attached_shadow() {
+        // A board turned to the camera over [300, 440) before a wall at 3 m: its disparity
+        // d(u) = 36.39 + 0.1·(u − 300) px (a plane's disparity is affine in u; 1.2 m at its left
+        // edge), so its attached shadow on the wall is d(300) − 43.67/3 = 21.8 px, [278, 300).
+        // A rod at 0.6 m (disparity 72.78) over [350, 364) shadows the board where
+        // u = a − 72.78 + d(u), i.e. u = (a − 66.39)/0.9: [315, 331). What shows of the board
+        // left of that, 15 px, is narrower than the board's shift, and the board goes on right
+        // of the rod's shadow 1.7 px nearer, as its slope carries it: the same surface, not a
+        // second object whose shadow hides a lit gap. The board's shadow is attached.
+        let (c, _) = params();
+        let board = |u: usize| raw_at(&c, c.fb() / (36.39 + 0.1 * (u as f64 - 300.0)));
+        let labels = wall_frame(|_, row| {
+            row[278..300].fill(NO_DEPTH);
+            for (u, r) in row.iter_mut().enumerate().take(440).skip(300) {
+                *r = board(u);
+            }
+            row[315..331].fill(NO_DEPTH);
+            row[350..364].fill(raw_at(&c, 0.6));
+        });
+        assert_rows(&labels, &[1, 100, 241, 478], 278..300, ATTACHED);
+        assert_rows(&labels, &[1, 100, 241, 478], 315..331, DETACHED);
     }
 
     #[test]
