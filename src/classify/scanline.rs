@@ -914,8 +914,18 @@ fn hidden_background(
     }
     // What the hole's own columns show above it: a surface there that is Sb itself (a hole
     // under an object's overhang) leaves no room for a shadow. The surface right of Sb is no
-    // stand-in: it is as often a second object as the background.
-    let from_above = farthest_above(above, h);
+    // stand-in: it is as often a second object as the background. Sb above the hole's last few
+    // columns only, with nothing or Sa above the rest, is Sb's edge that the widening moves
+    // from row to row (a shadow running down from the frame's top), not an overhang.
+    let from_above = farthest_above(above, h).filter(|&r| {
+        let on = |a: u16, b: u16| (p.disp(a) - p.disp(b)).abs() < p.min_step;
+        let edge_only = h.end - h.start > WIDENING as usize
+            && on(r, sb.near)
+            && above[h.start..h.end - WIDENING as usize]
+                .iter()
+                .all(|&a| a == NO_DEPTH || on(a, sa.edge));
+        !edge_only
+    });
     let Some(bg) = from_above.or_else(|| beside_thin_sa(p, raw, h, sa, labels)) else {
         return;
     };
@@ -3321,6 +3331,26 @@ mod tests {
         });
         assert_rows(&labels, &[1, 100, 241, 478], 278..300, ATTACHED);
         assert_rows(&labels, &[1, 100, 241, 478], 315..331, DETACHED);
+    }
+
+    #[test]
+    fn rods_shadow_half_hidden_by_a_nearer_rod_down_from_the_top_is_attached() {
+        // A board at 1.2 m over [150, 400) before a wall at 3 m; rod A at 0.6 m over [200, 220),
+        // rod B at 0.9 m from 226 to 241, both through every row. B's shift on the board is
+        // 43.67·(1/0.9 − 1/1.2) = 12.1 px: its attached shadow [214, 226) lies behind A up to
+        // 220. The widening moves B's left edge by 0–2 px from row to row, so the rows above
+        // show B over the hole's last columns, and nothing at all over the rest: no overhang of
+        // B, and the background is the board left of A.
+        let (c, _) = params();
+        let labels = wall_frame(|v, row| {
+            row[150..400].fill(raw_at(&c, 1.2));
+            row[128..150].fill(NO_DEPTH);
+            row[164..184].fill(NO_DEPTH);
+            row[200..220].fill(raw_at(&c, 0.6));
+            row[220..226 + v % 3].fill(NO_DEPTH);
+            row[226 + v % 3..241].fill(raw_at(&c, 0.9));
+        });
+        assert_rows(&labels, &[1, 100, 241, 478], 220..226, ATTACHED);
     }
 
     #[test]
