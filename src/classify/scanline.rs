@@ -764,7 +764,8 @@ fn classify_bounded(
         other => other,
     };
     match verdict {
-        Detached::No => {
+        // A tail comes only from a hole at the left border.
+        Detached::No | Detached::Tail { .. } => {
             // A step under `min_step` that no detached occluder explains: a thin edge's
             // attached shadow, which the widening makes visible (eq. 3 at half the step). The
             // edge pixels themselves must show it: on a flat surface, the extremes of noisy
@@ -1058,6 +1059,10 @@ enum Detached {
     /// Cast by an occluder with no depth of its own (black or glossy), seen as the hole
     /// `occluder` whose depth the shift implies (`raw`).
     Depthless { occluder: Run, raw: u16 },
+    /// At the left border only: a measured occluder's shadow (eq. 5 at the hole's right end)
+    /// fills the hole from column `from` on; the rest, left of it, is something else (a region
+    /// beyond range, the sensor's dead band) that the shadow merged with.
+    Tail { from: usize },
 }
 
 /// True when Sb continues the surface of Sa across the hole (a hole on a slanted surface rising
@@ -1604,6 +1609,13 @@ fn detached(
             let shadow_end = h.end as f32 + e5;
             // Eq. (4) solved for Sa: where its shadow starts.
             let shadow_start = h.start as f32 - 1.0 + e4;
+            if sa.is_none() && fits5 && !cut_fits {
+                // The widening moves the shadow's left end left as well.
+                let from = (shadow_start - WIDENING).floor().max(h.start as f32) as usize;
+                if from > h.start && from < h.end && shows_its_start(p, rows, from, h.end) {
+                    return Detached::Tail { from };
+                }
+            }
             match chain {
                 // A merged hole: the first occluder's shadow fits its left end and stops short
                 // of its right end, so the next occluder's shadow goes on from there.
@@ -1849,6 +1861,36 @@ fn hole_after(raw: &[u16], end: usize, reach: usize) -> Option<usize> {
         .map(|k| end + k)
 }
 
+/// True when a row nearby (the nearest that answers, up to 40 rows away) shows the left end of
+/// the shadow `[from, end)` that this row's hole merged with something at the left border: the
+/// hole through the shadow's middle there is a whole detached shadow (eqs. 4–5) starting near
+/// `from`. Eq. (5) alone fits where an object's left edge happens to lie where a rod's shadow on
+/// it would end (a shadow that never falls on that object, in any row).
+fn shows_its_start(p: &ScanParams, rows: Rows, from: usize, end: usize) -> bool {
+    let mid = (from + end) / 2;
+    let none = Rows { up: &[], down: &[] };
+    occluder_width_nearby(WIDTH, rows, |row| {
+        Some(match hole_around(row, mid) {
+            Some(run) if run.start > 0 && run.end < row.len() => Some(
+                run.start as f32 + 2.0 * WIDENING >= from as f32
+                    && run.start < mid
+                    && matches!(
+                        detached(
+                            p,
+                            row,
+                            run,
+                            Some(bound_left(row, run.start)),
+                            bound_right(row, run.end),
+                            none
+                        ),
+                        Detached::Measured
+                    ),
+            ),
+            _ => None,
+        })
+    })
+}
+
 /// The hole run of `row` containing column `u` or a neighbour of it, if any.
 fn hole_around(row: &[u16], u: usize) -> Option<Run> {
     let u = [u, u.saturating_sub(1), u + 1]
@@ -1937,6 +1979,7 @@ fn classify_left_border(
                 set(labels, raw, h.start, h.end, DETACHED);
                 fill(filled, occluder, at);
             }
+            Detached::Tail { from } => set(labels, raw, from, h.end, DETACHED),
             Detached::No => {}
         }
     }
@@ -3331,6 +3374,30 @@ mod tests {
         });
         assert_rows(&labels, &[1, 100, 241, 478], 278..300, ATTACHED);
         assert_rows(&labels, &[1, 100, 241, 478], 315..331, DETACHED);
+    }
+
+    #[test]
+    fn rods_shadow_merged_with_a_region_beyond_range_at_the_left_border_is_detached() {
+        // A rod at 1 m over [200, 212) before a wall at 3 m: shift 43.67·(1 − 1/3) = 29.1 px,
+        // shadow [170.9, 182.9). Left of it the wall is beyond range: columns [0, 150) in rows
+        // from 240 down, [0, 175) above them, where the two holes merge into one from the left
+        // border. Its right part is the rod's shadow (eq. 5 at its end, eq. 4 where a row
+        // below shows the whole shadow); the rest is OTHER.
+        let (c, _) = params();
+        let labels = wall_frame(|v, row| {
+            row[..if v < 240 { 175 } else { 150 }].fill(NO_DEPTH);
+            row[171..183].fill(NO_DEPTH);
+            row[200..212].fill(raw_at(&c, 1.0));
+        });
+        assert_rows(&labels, &[210, 239, 241, 400], 171..183, DETACHED);
+        assert_rows(&labels, &[210, 239], 0..165, OTHER);
+        // Where no row shows the shadow's left end, eq. (5) alone cannot tell it from a wall
+        // whose measured part begins where a rod's shadow on it would end: left OTHER.
+        let labels = wall_frame(|_, row| {
+            row[..183].fill(NO_DEPTH);
+            row[200..212].fill(raw_at(&c, 1.0));
+        });
+        assert_rows(&labels, &[1, 210, 478], 0..183, OTHER);
     }
 
     #[test]
