@@ -1511,10 +1511,27 @@ fn detached(
                 // A hole that could be this shadow's depthless occluder by its geometry decides
                 // (also when it chains or is not repeated: then no one can tell). Any other is a
                 // dropout in the lit gap: the search goes on past it.
-                if let Some(pair) = hole_pair(p, raw, h, start, d_bg) {
-                    return depthless_occluder(p, raw, h, pair, d_bg, rows);
-                }
                 let end = u + raw[u..].iter().take_while(|&&r| r == NO_DEPTH).count();
+                if let Some(pair) = hole_pair(p, raw, h, start, d_bg) {
+                    // Unless that hole is itself a measured occluder's detached shadow (two
+                    // rods' shadows side by side): then it is no occluder, and the search goes
+                    // on past it.
+                    let other_shadow = end < n
+                        && matches!(
+                            detached(
+                                p,
+                                raw,
+                                Run { start, end },
+                                Some(bound_left(raw, start)),
+                                bound_right(raw, end),
+                                rows
+                            ),
+                            Detached::Measured
+                        );
+                    if !other_shadow {
+                        return depthless_occluder(p, raw, h, pair, d_bg, rows);
+                    }
+                }
                 stepped += 1;
                 if end - start > MAX_GAP_DROPOUT
                     || stepped > MAX_GAP_STEPS
@@ -3374,6 +3391,33 @@ mod tests {
         });
         assert_rows(&labels, &[1, 100, 241, 478], 278..300, ATTACHED);
         assert_rows(&labels, &[1, 100, 241, 478], 315..331, DETACHED);
+    }
+
+    #[test]
+    fn shadows_of_two_rods_side_by_side_are_not_a_black_rod_and_its_shadow() {
+        // Before a wall at 3 m: rod A at 1 m over [300, 312) (shift 43.67·(1 − 1/3) = 29.1 px,
+        // shadow [270.9, 282.9)) and rod B at 1.1 m right against it over [312, 322) (shift
+        // 25.1 px, shadow [286.9, 296.9)). The two shadows, 12 and 10 px wide 14 px apart, look
+        // like a black rod 43.67/(14.56 + 14) = 1.53 m away and its shadow; but B's hole is a
+        // measured rod's detached shadow, a hole in the lit wall, so it is no occluder: both
+        // are detached, and B's shadow keeps the wall's depth for the warp.
+        let (c, p) = params();
+        let wall = raw_at(&c, 3.0);
+        let mut raw = vec![wall; PIXELS];
+        for row in raw.chunks_exact_mut(WIDTH) {
+            row[271..283].fill(NO_DEPTH);
+            row[287..297].fill(NO_DEPTH);
+            row[300..312].fill(raw_at(&c, 1.0));
+            row[312..322].fill(raw_at(&c, 1.1));
+        }
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        assert_rows(&labels, &[1, 100, 241, 478], 271..283, DETACHED);
+        assert_rows(&labels, &[1, 100, 241, 478], 287..297, DETACHED);
+        for v in [1, 100, 241, 478] {
+            let b = &filled[v * WIDTH + 287..v * WIDTH + 297];
+            assert!(b.iter().all(|&f| f == wall), "row {v}: {b:?}, wall {wall}");
+        }
     }
 
     #[test]
