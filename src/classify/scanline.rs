@@ -1175,11 +1175,11 @@ fn thin_occluder(p: &ScanParams, raw: &[u16], sb: usize, w: f32, rows: Rows) -> 
             let occluder_end = d_occ.min(p.disp(row[end - 1]));
             let on_occluder = p.disp(bound_right(row, next).near) - occluder_end;
             let width = (next - end) as f32;
-            !occluder_goes_on(p, &row[sb..=next], end - sb)
-                && on_occluder.abs() >= p.min_step
+            on_occluder.abs() >= p.min_step
                 && on_occluder + w >= p.min_step
                 && width > on_occluder + WIDENING + 1.0
                 && width <= on_occluder + w + p.over
+                && !occluder_goes_on(p, &row[sb..=next], end - sb)
         }
     };
     // Or a step back to a surface between it and the background (a box it stands before): it
@@ -1441,6 +1441,20 @@ fn detached(
     sb: Bound,
     rows: Rows,
 ) -> Detached {
+    search_occluder(p, raw, h, sa, sb, rows, true)
+}
+
+/// [`detached`], with `pairs` false for a measured occluder only: holes in the lit gap are
+/// stepped over as dropouts, never paired as a depthless occluder and its shadow.
+fn search_occluder(
+    p: &ScanParams,
+    raw: &[u16],
+    h: Run,
+    sa: Option<Bound>,
+    sb: Bound,
+    rows: Rows,
+    pairs: bool,
+) -> Detached {
     let n = raw.len();
     let d_sb = p.disp(sb.far);
     // A hole at the left border (no Sa) lies on the background Sb shows.
@@ -1512,19 +1526,20 @@ fn detached(
                 // (also when it chains or is not repeated: then no one can tell). Any other is a
                 // dropout in the lit gap: the search goes on past it.
                 let end = u + raw[u..].iter().take_while(|&&r| r == NO_DEPTH).count();
-                if let Some(pair) = hole_pair(p, raw, h, start, d_bg) {
+                if let Some(pair) = pairs.then(|| hole_pair(p, raw, h, start, d_bg)).flatten() {
                     // Unless that hole is itself a measured occluder's detached shadow (two
                     // rods' shadows side by side): then it is no occluder, and the search goes
                     // on past it.
                     let other_shadow = end < n
                         && matches!(
-                            detached(
+                            search_occluder(
                                 p,
                                 raw,
                                 Run { start, end },
                                 Some(bound_left(raw, start)),
                                 bound_right(raw, end),
-                                rows
+                                rows,
+                                false
                             ),
                             Detached::Measured
                         );
