@@ -841,7 +841,11 @@ fn below_unmeasured(
         return;
     }
     let same_sa = (p.disp(up[a]) - p.disp(raw[a])).abs() < p.min_step;
-    if same_sa && prev_labels[h.start..h.end].iter().all(|&l| l == OTHER) {
+    // `prev_labels` is empty where the caller has no labels of the row above (`classify_row`).
+    let above_other = prev_labels
+        .get(h.start..h.end)
+        .is_some_and(|l| l.iter().all(|&l| l == OTHER));
+    if same_sa && above_other {
         set(labels, raw, h.start, h.end, OTHER);
     }
 }
@@ -2458,6 +2462,22 @@ mod tests {
             let want = if wide_attached { ATTACHED } else { OTHER };
             assert_eq!(wide, want, "typical {typical}");
         }
+    }
+
+    #[test]
+    fn one_row_with_the_raw_row_above_and_no_labels_of_it_is_classified() {
+        // `classify_row` has no labels of the row above: a box at 1 m before a wall at 3 m,
+        // the same in the row above, makes the attached shadow [270.9, 300) (43.67·(1 − 1/3) =
+        // 29.1 px). It once panicked reading the row above's labels.
+        let c = Calibration::nyu_default();
+        let mut row = wall_with_holes(&c, &[(271, 300)]);
+        row[300..400].fill(raw_at(&c, 1.0));
+        let (labels, _) = run_with_neighbours(&row, &row, &[]);
+        assert!(
+            labels[271..300].iter().all(|&l| l == ATTACHED),
+            "{:?}",
+            &labels[271..300]
+        );
     }
 
     #[test]
