@@ -1608,6 +1608,15 @@ fn search_occluder(
                     break;
                 }
             }
+            // A surface turned towards the camera (a box's face) rises out of the lit gap by
+            // less than a step a pixel: no occluder starts there, and it is not passed as one.
+            if fa > h.end
+                && raw[fa - 1] != NO_DEPTH
+                && (p.disp(raw[fa]) - p.disp(raw[fa - 1])).abs() < p.min_step
+            {
+                u = fb + 1;
+                continue;
+            }
             let d_fa = p.disp(raw[fa]).max(p.disp(raw[(fa + 1).min(fb)]));
             let d_fb = p
                 .disp(raw[fb])
@@ -3426,6 +3435,28 @@ mod tests {
         });
         assert_rows(&labels, &[1, 100, 241, 478], 278..300, ATTACHED);
         assert_rows(&labels, &[1, 100, 241, 478], 315..331, DETACHED);
+    }
+
+    #[test]
+    fn rods_shadow_on_a_turned_board_is_found_past_the_board_rising_towards_the_camera() {
+        // A board turned to the camera over [250, 400) before a wall at 3 m, its disparity
+        // d(u) = 7.5 + 0.05·u px (20 px, 2.18 m, at its left edge; attached shadow [245, 250)).
+        // A rod at 0.8 m (disparity 54.59) over [340, 350) shadows it where
+        // u = a − 54.59 + d(u), i.e. u = (a − 47.09)/0.95: [308.3, 318.9). Between the shadow
+        // and the rod the board rises by more than a pixel of disparity over the wall-side
+        // background, and sensor noise cuts that rise in two (column 333 half a pixel back):
+        // neither part is an occluder, and the rod's eqs. (4)–(5) make the hole detached.
+        let (c, _) = params();
+        let board = |u: usize, dip: f64| raw_at(&c, c.fb() / (7.5 + 0.05 * u as f64 - dip));
+        let labels = wall_frame(|_, row| {
+            row[245..250].fill(NO_DEPTH);
+            for (u, r) in row.iter_mut().enumerate().take(400).skip(250) {
+                *r = board(u, if u == 333 { 0.5 } else { 0.0 });
+            }
+            row[309..319].fill(NO_DEPTH);
+            row[340..350].fill(raw_at(&c, 0.8));
+        });
+        assert_rows(&labels, &[1, 100, 241, 478], 309..319, DETACHED);
     }
 
     #[test]
