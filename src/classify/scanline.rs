@@ -1920,13 +1920,14 @@ fn shows_its_start(p: &ScanParams, rows: Rows, from: usize, end: usize) -> bool 
                 run.start as f32 + 2.0 * WIDENING >= from as f32
                     && run.start < mid
                     && matches!(
-                        detached(
+                        search_occluder(
                             p,
                             row,
                             run,
                             Some(bound_left(row, run.start)),
                             bound_right(row, run.end),
-                            none
+                            none,
+                            false
                         ),
                         Detached::Measured
                     ),
