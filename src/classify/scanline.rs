@@ -1069,6 +1069,17 @@ enum Detached {
     Tail { from: usize },
 }
 
+/// How many valid pixels just left of column `at` (up to `limit`) are nearer than disparity `d`
+/// by more than a step: the width of a nearer object standing there.
+fn nearer_before(p: &ScanParams, raw: &[u16], at: usize, d: f32, limit: usize) -> usize {
+    raw[..at]
+        .iter()
+        .rev()
+        .take(limit)
+        .take_while(|&&r| r != NO_DEPTH && p.disp(r) > d + p.min_step)
+        .count()
+}
+
 /// True when Sb continues the surface of Sa across the hole (a hole on a slanted surface rising
 /// towards the camera, not a depth edge): Sa's slope extrapolated over the hole lands within
 /// `tol` pixels of disparity of Sb.
@@ -1469,14 +1480,10 @@ fn search_occluder(
     let nearer = |sa: &Bound| p.disp(sa.far) > d_sb + p.min_step;
     let (d_sa, hidden) = match sa {
         None => (d_sb, f32::INFINITY),
-        Some(sa) if nearer(&sa) => {
-            let width = raw[..h.start]
-                .iter()
-                .rev()
-                .take_while(|&&r| r != NO_DEPTH && p.disp(r) > d_sb + p.min_step)
-                .count();
-            (d_sb, width as f32)
-        }
+        Some(sa) if nearer(&sa) => (
+            d_sb,
+            nearer_before(p, raw, h.start, d_sb, usize::MAX) as f32,
+        ),
         Some(sa) => (p.disp(sa.far), 0.0),
     };
     let reach = (p.max_disp - d_bg).max(0.0) as usize + 2;
@@ -1636,13 +1643,7 @@ fn search_occluder(
             // left than what shows of it casts (never further right). Counted only when needed.
             let over4 = e4 - 1.0 - (p.tol + WIDENING);
             let fits4 = e4 - 1.0 >= -p.tol - hidden
-                && (over4 <= 0.0
-                    || raw[..fa]
-                        .iter()
-                        .rev()
-                        .take_while(|&&r| r != NO_DEPTH && p.disp(r) > d_fa + p.min_step)
-                        .count() as f32
-                        >= over4);
+                && (over4 <= 0.0 || nearer_before(p, raw, fa, d_fa, usize::MAX) as f32 >= over4);
             // An occluder running off the right border shows only part of its width: its
             // shadow may end further right than what shows of it casts (never further left).
             let cut = fb + 1 == n;
@@ -1848,12 +1849,7 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
             return None;
         }
         let hidden = h.start as f32 - (h.end as f32 - occluder_w);
-        let cover = raw[..h.start]
-            .iter()
-            .rev()
-            .take(hidden as usize + 2)
-            .take_while(|&&r| r != NO_DEPTH && p.disp(r) > d_bg + p.min_step)
-            .count();
+        let cover = nearer_before(p, raw, h.start, d_bg, hidden as usize + 2);
         let shift = (end - h.end) as f32;
         return (cover as f32 + 1.0 >= hidden && d_bg + shift <= p.max_disp)
             .then_some((shift, Run { start, end }));

@@ -71,7 +71,11 @@ impl ColourSplit {
             for (side, w) in [v.wrapping_sub(k), v + k].into_iter().enumerate() {
                 let same = |ends| self.same_hole_in(raw, w, ends);
                 match (w < HEIGHT)
-                    .then(|| same((a, b)).or_else(|| same(last[side])))
+                    .then(|| {
+                        // Where the nearer row on this side held these very ends, ask once.
+                        let moved = last[side] != (a, b);
+                        same((a, b)).or_else(|| moved.then(|| same(last[side])).flatten())
+                    })
                     .flatten()
                 {
                     Some(span) => last[side] = span,
