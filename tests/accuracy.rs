@@ -325,6 +325,23 @@ fn rod_off_the_right_border(scene: &Scene) -> (SynthFrame, Classified, Classifie
     (frame, depth_only, out)
 }
 
+/// Two frames of `scene` through the Kinect sensor model (seeds `seed` and `seed + 1`),
+/// classified with their RGB images and scored against their labels in the RGB view (`rgb`) or
+/// the IR view.
+fn kinect_confusion(scene: &Scene, calib: &Calibration, seed: u64, rgb: bool) -> Confusion {
+    let mut c = Confusion::default();
+    for seed in seed..seed + 2 {
+        let frame = render_frame(scene, calib, &SensorModel::kinect(), seed);
+        let out = classify_rgb(calib, &frame);
+        if rgb {
+            c.add(&frame.rgb_labels, &out.rgb_labels);
+        } else {
+            c.add(&frame.ir_labels, &out.ir_labels);
+        }
+    }
+    c
+}
+
 /// Tilts the rod of a [`Scene::rod_before_wall`] scene by `degrees` in the image plane.
 fn tilt_rod(scene: &mut Scene, degrees: f64) {
     let tilt = degrees.to_radians();
@@ -382,11 +399,7 @@ fn slanted_detached_shadow_of_a_rod_beyond_the_right_border_is_told_by_colour() 
     let calib = Calibration::nyu_default();
     let mut scene = Scene::rod_before_wall(0.62, 1.0, 0.01, 3.0);
     tilt_rod(&mut scene, 20.0);
-    let mut c = Confusion::default();
-    for seed in 0..2 {
-        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 30 + seed);
-        c.add(&frame.ir_labels, &classify_rgb(&calib, &frame).ir_labels);
-    }
+    let c = kinect_confusion(&scene, &calib, 30, false);
     at_least(
         &c,
         Some(DETACHED),
@@ -856,11 +869,7 @@ fn slanted_glossy_cylinder_gets_its_alignment_strip_from_its_right_edge() {
         },
         umbra::synth::Material::black(),
     );
-    let mut c = Confusion::default();
-    for seed in 0..2 {
-        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 70 + seed);
-        c.add(&frame.rgb_labels, &classify_rgb(&calib, &frame).rgb_labels);
-    }
+    let c = kinect_confusion(&scene, &calib, 70, true);
     at_least(
         &c,
         Some(ALIGNMENT),
@@ -886,11 +895,7 @@ fn black_box_turned_away_gets_its_alignment_strip_from_its_right_edge() {
             yaw: yaw.to_radians(),
         };
         scene.objects[1].material = umbra::synth::Material::black();
-        let mut c = Confusion::default();
-        for seed in 0..2 {
-            let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 90 + seed);
-            c.add(&frame.rgb_labels, &classify_rgb(&calib, &frame).rgb_labels);
-        }
+        let c = kinect_confusion(&scene, &calib, 90, true);
         at_least(
             &c,
             Some(ALIGNMENT),
