@@ -137,6 +137,7 @@ fn classify_frame_body(
     let range = Range::of(raw);
     let mut widening = Widening::default();
     let mut too_wide = TooWide::new();
+    let mut below_memory = BelowMemory::new();
     let mut holes = [Run::default(); MAX_RUNS];
     for (v, (row, fill)) in raw
         .chunks_exact(WIDTH)
@@ -159,6 +160,7 @@ fn classify_frame_body(
             &mut holes,
             &mut widening,
             Some(&mut too_wide),
+            Some(&mut below_memory),
         );
         for (m, &r) in column_memory.iter_mut().zip(row) {
             *m = if r != NO_DEPTH { r } else { *m };
@@ -317,6 +319,103 @@ impl Widening {
 /// Most extra widening [`Widening::extra_over`] allows (pixels).
 const MAX_EXTRA_OVER: f32 = 6.0;
 
+/// Per column, the first valid pixel below the rows searched so far: a hole at the left border
+/// may run down a long way (a box's shadow from the frame's top), and its rows ask the same
+/// columns in turn, so each column is scanned downwards at most once per frame.
+struct BelowMemory {
+    /// Row of the pixel found (the frame's height if none), 0 where never searched.
+    row: [u16; WIDTH],
+    /// Its raw value (2047 if none) and the surface's slope there (raw units per row down).
+    found: [(u16, f32); WIDTH],
+}
+
+impl BelowMemory {
+    fn new() -> Self {
+        BelowMemory {
+            row: [0; WIDTH],
+            found: [(NO_DEPTH, 0.0); WIDTH],
+        }
+    }
+
+    /// [`surface_below`] for row `v`, `below` the rows under it.
+    fn surface_below(&mut self, v: usize, below: &[u16], col: usize) -> Option<(u16, f32)> {
+        if usize::from(self.row[col]) <= v {
+            let found = first_valid_below(below, col);
+            let rows = below.len() / WIDTH;
+            self.row[col] = (v + 1 + found.map_or(rows, |(k, ..)| k)) as u16;
+            self.found[col] = found.map_or((NO_DEPTH, 0.0), |(_, r, slope)| (r, slope));
+        }
+        let (r, slope) = self.found[col];
+        let dist = usize::from(self.row[col]) - v;
+        (r != NO_DEPTH).then(|| (r, along(r, slope, dist)))
+    }
+}
+
+/// The first valid raw value in column `col` of `below` (whole rows), and the value its surface
+/// would have carried up to the row above `below`: a wall that recedes upwards (a pitched camera,
+/// a yawed wall's far side) may leave the sensor's range in the rows of a hole above it. (Only
+/// as a test: a floor carried up meets the wall long before.)
+fn surface_below(below: &[u16], col: usize) -> Option<(u16, f32)> {
+    first_valid_below(below, col).map(|(k, r, slope)| (r, along(r, slope, k + 1)))
+}
+
+/// `r` carried `dist` rows up along `slope` (raw units per row down), where that slope is clearly
+/// more than noise: over 32 rows, pair-averaged, a level wall's slope is off by some 0.02.
+fn along(r: u16, slope: f32, dist: usize) -> f32 {
+    const STEEP: f32 = 0.1;
+    let r = f32::from(r);
+    if slope < -STEEP {
+        r - slope * dist as f32
+    } else {
+        r
+    }
+}
+
+/// The first valid pixel of column `col` in `below` (whole rows): its row there, raw value, and
+/// the slope of its surface down the column (raw units per row, over up to 32 rows of it).
+fn first_valid_below(below: &[u16], col: usize) -> Option<(usize, u16, f32)> {
+    const SPAN: usize = 32;
+    // Raw units within which two pixels a row or two apart are one surface.
+    const SAME: u16 = 4;
+    let mut column = below.chunks_exact(WIDTH).map(|row| row[col]);
+    let k = column.position(|r| r != NO_DEPTH)?;
+    let first = below[k * WIDTH + col];
+    // The surface's pixels below it, holes stepped over, until a step to another surface.
+    let (mut last, mut n, mut end) = (first, 1, f32::from(first));
+    for (j, r) in column.take(SPAN).enumerate() {
+        if r == NO_DEPTH {
+            continue;
+        }
+        if r.abs_diff(last) > SAME {
+            break;
+        }
+        last = r;
+        n = j + 2;
+        end = f32::from(r);
+    }
+    // Ends averaged with their neighbours where there are enough rows.
+    let slope = if n >= 8 {
+        let at = |j: usize| {
+            below
+                .get((k + j) * WIDTH + col)
+                .copied()
+                .unwrap_or(NO_DEPTH)
+        };
+        let pair = |j: usize| {
+            let (a, b) = (at(j), at(j + 1));
+            if a != NO_DEPTH && b != NO_DEPTH && a.abs_diff(b) <= SAME {
+                0.5 * (f32::from(a) + f32::from(b))
+            } else {
+                f32::from(a.min(b))
+            }
+        };
+        (pair(n - 2) - pair(0)) / (n - 2) as f32
+    } else {
+        (end - f32::from(first)) / (n.max(2) - 1) as f32
+    };
+    Some((k, first, slope))
+}
+
 /// Holes that would be attached shadows but for being up to [`MAX_EXTRA_OVER`] px wider than
 /// `attached_over_px` allows: attached after all if the frame's widening says so, which is known
 /// only once every row is scanned. A fixed capacity: nothing is allocated per frame.
@@ -449,6 +548,7 @@ pub fn classify_row(
         &mut holes,
         &mut Widening::default(),
         None,
+        None,
     );
 }
 
@@ -469,6 +569,7 @@ fn classify_row_with(
     holes: &mut [Run; MAX_RUNS],
     widening: &mut Widening,
     mut too_wide: Option<&mut TooWide>,
+    mut below_memory: Option<&mut BelowMemory>,
 ) {
     let n = raw.len();
     filled.copy_from_slice(raw);
@@ -511,7 +612,9 @@ fn classify_row_with(
             }
             (None, Some(sb)) => {
                 let rows = Rows { up, down: below };
-                classify_left_border(p, raw, *h, sb, above, prev_labels, rows, labels, filled)
+                let memory = below_memory.as_deref_mut();
+                let context = (range, above, prev_labels, rows, memory);
+                classify_left_border(p, raw, *h, sb, context, labels, filled)
             }
             (Some(sa), None) => fill(filled, *h, sa.far),
             (None, None) => fill(filled, *h, p.fallback_raw),
@@ -1949,37 +2052,50 @@ fn hole_around(row: &[u16], u: usize) -> Option<Run> {
     Some(Run { start, end })
 }
 
+/// What [`classify_left_border`] reads besides the row: the last valid value above each column,
+/// the labels of the row above, the rows around, and the frame's memory of the rows below.
+type LeftBorderContext<'a, 'm> = (
+    Range,
+    &'a [u16],
+    &'a [u8],
+    Rows<'a>,
+    Option<&'m mut BelowMemory>,
+);
+
 /// A hole touching the left border: Sa is outside the image, so the background the shadow falls
 /// on is estimated from what surrounds the hole: the surface just right of the occluder (the
 /// background usually continues behind it), and the nearest valid pixels above and below in the
-/// hole's columns. The farthest estimate wins: the shadow lies on the background. Where Sb is
-/// not nearer than that, the hole may be the right part of a detached shadow (eqs. 4–5 with the
-/// left end open).
-#[allow(clippy::too_many_arguments)]
+/// hole's columns, however far (but not where the surface found, carried up its slope, would be
+/// beyond the range). The farthest estimate wins: the shadow lies on the background. Where Sb
+/// is not nearer than that, or the hole is too wide for Sb's attached shadow, the hole may hold
+/// the right part of a detached shadow (eqs. 4–5 with the left end open).
 fn classify_left_border(
     p: &ScanParams,
     raw: &[u16],
     h: Run,
     sb: Bound,
-    above: &[u16],
-    prev_labels: &[u8],
-    rows: Rows,
+    (range, above, prev_labels, rows, mut memory): LeftBorderContext,
     labels: &mut [u8],
     filled: &mut [u16],
 ) {
-    const LOOK_DOWN: usize = 120;
     let below = rows.down;
     let from_above = farthest_above(above, h);
-    let down = |col: usize| {
-        below
-            .chunks_exact(WIDTH)
-            .take(LOOK_DOWN)
-            .map(|row| row[col])
-            .find(|&r| r != NO_DEPTH)
+    let v = rows.up.len() / WIDTH;
+    // However far down: a box's shadow may run from the frame's top to its middle.
+    let mut down = |col: usize| {
+        match memory.as_deref_mut() {
+            Some(memory) => memory.surface_below(v, below, col),
+            None => surface_below(below, col),
+        }
+        // Past the farthest the frame measured: beyond the range in this row.
+        .filter(|&(_, here)| here <= f32::from(range.far) + 0.5)
+        .map(|(r, _)| r)
     };
     // Most left-border holes are the sensor's dead band, the same in every row: the rows above
-    // already answer, and scanning far down two columns of them each row costs time.
-    let from_below = if from_above.is_some() {
+    // already answer, unless all they show is the occluder itself (a hole a pixel wider than
+    // the one above it).
+    let behind = |r: u16| p.disp(sb.near) - p.disp(r) >= p.min_step;
+    let from_below = if from_above.is_some_and(behind) {
         None
     } else {
         down(h.start).max(down(h.end - 1))
@@ -2011,10 +2127,12 @@ fn classify_left_border(
             },
             labels,
         );
-    } else {
+    }
+    // Where Sb is the background (nothing farther shows), or the hole is too wide for Sb's
+    // attached shadow (a region beyond range runs off the border behind it), a detached shadow
+    // on Sb's surface whose left end lies past the border or merged with that region.
+    if attached_w.is_none_or(|w| (h.end - h.start) as f32 > w + p.over) {
         match detached(p, raw, h, None, sb, rows) {
-            // Sb is the background (nothing farther shows): a detached shadow whose left end
-            // lies past the border.
             Detached::Measured => set(labels, raw, h.start, h.end, DETACHED),
             // The same cast by an occluder that returns no depth: it is warped where it stands.
             Detached::Depthless { occluder, raw: at } => {
@@ -3706,6 +3824,56 @@ mod tests {
         for v in [0, 1, 200, 399] {
             assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], 0..20, ATTACHED);
         }
+    }
+
+    #[test]
+    fn left_border_shadow_running_down_from_the_top_finds_the_wall_far_below() {
+        // A box at 1.2 m over columns [10, 300), rows [0, 300), before a wall at 3 m: its
+        // attached shadow, 43.67·(1/1.2 − 1/3) = 21.8 px, shows [0, 10) at the border (a pixel
+        // more in odd rows, as the widening moves its edge). Nothing beside the box within 200 px
+        // and nothing above: only the wall 300 rows below tells the background.
+        let (c, _) = params();
+        let labels = wall_frame(|v, row| {
+            if v < 300 {
+                let edge = 10 + v % 2;
+                row[..edge].fill(NO_DEPTH);
+                row[edge..300].fill(raw_at(&c, 1.2));
+            }
+        });
+        assert_rows(&labels, &[0, 1, 150, 299], 0..10, ATTACHED);
+        // The same wall receding upwards (half a raw unit a row) and beyond the sensor's range
+        // above row 300, where only the box shows: carried up, the wall leaves the range long
+        // before the box's rows, so the hole is that region, not a shadow on a lit wall.
+        let labels = wall_frame(|v, row| {
+            if v < 300 {
+                row.fill(NO_DEPTH);
+                row[10..300].fill(raw_at(&c, 1.2));
+            } else {
+                row.fill(raw_at(&c, 3.0) + ((HEIGHT - v) / 2) as u16);
+            }
+        });
+        assert_rows(&labels, &[0, 1, 150, 299], 0..10, OTHER);
+    }
+
+    #[test]
+    fn rods_shadow_on_a_board_merged_with_a_region_beyond_range_is_found_past_the_boards_shadow() {
+        // A board at 2.2 m from column 150 before a wall at 3 m: attached shadow
+        // 43.67·(1/2.2 − 1/3) = 5.3 px, [144, 150) where the wall shows, from row 240 down.
+        // A rod at 1 m over [180, 192) casts on the board a shadow shifted by
+        // 43.67·(1 − 1/2.2) = 23.8 px: [156, 168). Above row 240 the wall is beyond range and
+        // the board's left part is missing, so one hole [0, 168) runs from the border: far too
+        // wide for the board's attached shadow on the wall below, and its right part is the
+        // rod's (eq. 5 at its end; the rows below, within 40, show the whole shadow).
+        let (c, _) = params();
+        let labels = wall_frame(|v, row| {
+            row[150..400].fill(raw_at(&c, 2.2));
+            row[if v < 240 { 0 } else { 144 }..150].fill(NO_DEPTH);
+            row[if v < 240 { 150 } else { 156 }..168].fill(NO_DEPTH);
+            row[180..192].fill(raw_at(&c, 1.0));
+        });
+        assert_rows(&labels, &[241, 400], 156..168, DETACHED);
+        assert_rows(&labels, &[200, 239], 156..168, DETACHED);
+        assert_rows(&labels, &[130, 200, 239], 0..140, OTHER);
     }
 
     #[test]
