@@ -387,7 +387,7 @@ impl ColourSplit {
                             }
                             if c.b - c.a <= self.widest(c.bg)
                                 && !(self.sides_differ_in_light(rgb, v, (c.a, b), c.bg)
-                                    && self.nothing_seen_before(row, rgb, v, c.a, c.bg))
+                                    && self.nothing_seen_before(row, rgb, v, c.a, c.bg, true))
                             {
                                 return None;
                             }
@@ -434,8 +434,10 @@ impl ColourSplit {
                     // pixel or two, the sensor's widening swallows it in most rows, and its
                     // width against the shift is a tie the colour edge (±2 px) cannot break;
                     // but some row nearby shows the gap, and where it ends the occluder starts.
-                    let gap = c
-                        .closed
+                    // Also for a closed hole read from the left alone (a black rod's shadow
+                    // beside a wall shaded across it: an independent simulator's scene, 250 px
+                    // of a frame otherwise called attached).
+                    let gap = (c.closed || c.opened)
                         .then(|| self.lit_gap_near(raw, v, c.a + s, c.bg))
                         .flatten();
                     let s = gap.map_or(s, |x| x - c.a);

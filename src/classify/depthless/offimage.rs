@@ -92,14 +92,17 @@ impl ColourSplit {
             return false;
         };
         self.shows_the_wall(rgb, v, (a, b), bg, edge)
-            && self.nothing_seen_before(row, rgb, v, a, bg)
+            && self.nothing_seen_before(row, rgb, v, a, bg, false)
     }
 
     /// True when the RGB camera sees the wall's colour (read just left of the hole) over the
     /// wall left of the hole `[a, …)` of `row` (`v`), as far as the nearest measurable
     /// occluder's image moves against the wall (a third of its shift, as above). Something else
     /// there, where the IR camera sees wall, is the hole itself seen by the RGB camera: an
-    /// occluder without depth (black, glossy), not its shadow.
+    /// occluder without depth (black, glossy), not its shadow. With `shaded`, each probe is
+    /// held to the one before it (from the hole outwards) instead of to the wall beside the
+    /// hole: a wall shaded across the stretch (a cylinder turned from the light) drifts on,
+    /// an occluder's edge steps.
     pub(super) fn nothing_seen_before(
         &self,
         row: &[u16],
@@ -107,6 +110,7 @@ impl ColourSplit {
         v: usize,
         a: usize,
         bg: u16,
+        shaded: bool,
     ) -> bool {
         let Some(wall) = self.mean_colour(rgb, v, a.saturating_sub(SIDE)..a, bg) else {
             return false;
@@ -117,12 +121,19 @@ impl ColourSplit {
         let d_bg = self.disp(bg);
         let from = a.saturating_sub(self.widest(bg) / 3 + SIDE);
         let mut seen = 0;
-        for (u, &r) in row.iter().enumerate().take(a).skip(from) {
+        let mut last = wall;
+        for u in (from..a).rev() {
+            let r = row[u];
             if r == NO_DEPTH || (self.disp(r) - d_bg).abs() > SAME_SURFACE {
                 continue;
             }
             match self.probe(rgb, u, v, bg) {
-                Some(p) if hue_dist(p, wall) < step => seen += 1,
+                Some(p) if hue_dist(p, last) < step => {
+                    seen += 1;
+                    if shaded {
+                        last = p;
+                    }
+                }
                 _ => return false,
             }
         }
