@@ -381,7 +381,7 @@ fn first_valid_below(below: &[u16], col: usize) -> Option<(usize, u16, f32)> {
     let k = column.position(|r| r != NO_DEPTH)?;
     let first = below[k * WIDTH + col];
     // The surface's pixels below it, holes stepped over, until a step to another surface.
-    let (mut last, mut n, mut end) = (first, 1, f32::from(first));
+    let (mut last, mut n) = (first, 1);
     for (j, r) in column.take(SPAN).enumerate() {
         if r == NO_DEPTH {
             continue;
@@ -391,9 +391,8 @@ fn first_valid_below(below: &[u16], col: usize) -> Option<(usize, u16, f32)> {
         }
         last = r;
         n = j + 2;
-        end = f32::from(r);
     }
-    // Ends averaged with their neighbours where there are enough rows.
+    // Ends averaged with their neighbours; a surface of fewer rows tells no slope from noise.
     let slope = if n >= 8 {
         let at = |j: usize| {
             below
@@ -411,7 +410,7 @@ fn first_valid_below(below: &[u16], col: usize) -> Option<(usize, u16, f32)> {
         };
         (pair(n - 2) - pair(0)) / (n - 2) as f32
     } else {
-        (end - f32::from(first)) / (n.max(2) - 1) as f32
+        0.0
     };
     Some((k, first, slope))
 }
