@@ -843,9 +843,6 @@ fn classify_bounded(
         }
         if labels[h.start] == OTHER {
             hidden_background(p, raw, h, sa, sb, above, rows, labels, filled);
-            if labels[h.start] == OTHER {
-                attached_then_detached(p, raw, h, sb, w, rows, labels, filled);
-            }
         } else if let Some(bg) = behind_thin_sa(p, raw, h, sa, sb, w, above) {
             place(filled, raw, h, bg);
         }
@@ -902,42 +899,6 @@ fn classify_bounded(
             // sees it where it stands and finds its alignment shadow; `fill` never overwrites.
             fill(filled, occluder, at);
         }
-    }
-}
-
-/// A hole too wide for Sb's attached shadow on Sa (width `w`, eq. 3) can hold that shadow and,
-/// right of it, a thin occluder's detached shadow on Sb's own surface, which hides Sb's left edge
-/// (a rod before a box before a wall): the first `w` pixels are Sb's shadow on Sa, and the rest
-/// must pass the detached test (eqs. 4–5) on Sb's surface. Tried only when the whole hole fits
-/// no detached shadow (where the occluder's shadow on Sa would cover Sb's, the projector's ray
-/// meets the occluder first, and the whole hole is its shadow). The sensor's widening of the
-/// left end goes to the attached part (a pixel of it; the detached test's left end takes the
-/// rest): an independent simulator's rods before boxes, complex detached F1 +0.009 and +0.002
-/// on two of its suites, attached within −0.0008; ours up to +0.0008.
-#[allow(clippy::too_many_arguments)]
-fn attached_then_detached(
-    p: &ScanParams,
-    raw: &[u16],
-    h: Run,
-    sb: Bound,
-    w: f32,
-    rows: Rows,
-    labels: &mut [u8],
-    filled: &mut [u16],
-) {
-    let split = h.start + (w.round() as usize).max(1) + 1;
-    if split + 2 > h.end {
-        return;
-    }
-    let rest = Run {
-        start: split,
-        end: h.end,
-    };
-    if let Detached::Measured = detached(p, raw, rest, Some(sb), sb, rows) {
-        set(labels, raw, h.start, split, ATTACHED);
-        set(labels, raw, split, h.end, DETACHED);
-        // The detached part lies on Sb's surface, not on the background behind Sa.
-        place(filled, raw, rest, sb.far);
     }
 }
 
