@@ -829,6 +829,13 @@ fn classify_bounded(
     // Eq. (3): the attached shadow of Sb on the surface of Sa is w = disp(Sb) − disp(Sa) wide.
     let w = p.disp(sb.near) - p.disp(sa.far);
     if w >= p.min_step && !same_surface(p, raw, h, sa, sb, p.min_step) {
+        // Eq. (3) fitting is no proof: a thin occluder past a lit gap may fit it by eqs. (4)–(5)
+        // (a rod's shadow ending at a small step, or at noise). Holes too wide for eq. (3) get
+        // the detached test below anyway.
+        if (h.end - h.start) as f32 <= w + p.over && detached_beyond_sb(p, raw, h, sa, sb, rows) {
+            set(labels, raw, h.start, h.end, DETACHED);
+            return;
+        }
         label_attached(p, raw, h, w, rows, labels);
         // Too wide for Sb's shadow on Sa, the hole may be Sb's shadow on a background Sa hides
         // (below), but a thin occluder further right whose shadow it fits by eqs. (4)–(5) says
@@ -1547,11 +1554,31 @@ fn detached(
     sb: Bound,
     rows: Rows,
 ) -> Detached {
-    search_occluder(p, raw, h, sa, sb, rows, true)
+    search_occluder(p, raw, h, sa, sb, rows, true, false)
+}
+
+/// [`detached`] with Sb itself ruled out as the occluder: only one standing clear of the hole,
+/// past a lit gap, counts. A hole that eq. (3) fits as Sb's attached shadow and eqs. (4)–(5) as
+/// such an occluder's detached shadow is that occluder's: it covers Sb's shadow, and the
+/// projector's rays meet it first (it is the nearer, its shift being the larger).
+fn detached_beyond_sb(
+    p: &ScanParams,
+    raw: &[u16],
+    h: Run,
+    sa: Bound,
+    sb: Bound,
+    rows: Rows,
+) -> bool {
+    matches!(
+        search_occluder(p, raw, h, Some(sa), sb, rows, true, true),
+        Detached::Measured
+    )
 }
 
 /// [`detached`], with `pairs` false for a measured occluder only: holes in the lit gap are
-/// stepped over as dropouts, never paired as a depthless occluder and its shadow.
+/// stepped over as dropouts, never paired as a depthless occluder and its shadow; with
+/// `beyond_sb`, [`detached_beyond_sb`].
+#[allow(clippy::too_many_arguments)]
 fn search_occluder(
     p: &ScanParams,
     raw: &[u16],
@@ -1560,6 +1587,7 @@ fn search_occluder(
     sb: Bound,
     rows: Rows,
     pairs: bool,
+    beyond_sb: bool,
 ) -> Detached {
     let n = raw.len();
     let d_sb = p.disp(sb.far);
@@ -1643,6 +1671,7 @@ fn search_occluder(
                                 Some(bound_left(raw, start)),
                                 bound_right(raw, end),
                                 rows,
+                                false,
                                 false
                             ),
                             Detached::Measured
@@ -1741,7 +1770,8 @@ fn search_occluder(
             // shadow may end further right than what shows of it casts (never further left).
             let cut = fb + 1 == n;
             let fits5 = e5 + 1.0 <= p.tol && (cut || e5 + 1.0 >= -p.tol - WIDENING);
-            if fits4 && fits5 && cut_fits {
+            // Sb's first pixels are no occluder standing clear of the hole.
+            if fits4 && fits5 && cut_fits && !(beyond_sb && fa <= h.end + 1) {
                 return Detached::Measured;
             }
             // Where this occluder's shadow ends (eq. 5 with Fb − Sb solved for Sb).
@@ -2020,6 +2050,7 @@ fn shows_its_start(p: &ScanParams, rows: Rows, from: usize, end: usize) -> bool 
                             Some(bound_left(row, run.start)),
                             bound_right(row, run.end),
                             none,
+                            false,
                             false
                         ),
                         Detached::Measured
@@ -2761,6 +2792,23 @@ mod tests {
         row[566..594].fill(raw_at(&c, 1.36));
         row[594..606].fill(raw_at(&c, 0.6));
         assert_run(&run(&row), 553..566, DETACHED);
+    }
+
+    #[test]
+    fn rods_shadow_before_a_small_step_is_detached_though_eq_3_fits_the_step() {
+        // A 6 px rod at 1 m before a wall at 3 m whose right part, from the shadow's right end
+        // on, stands 10 raw units nearer (a panel, 1.2 px of disparity). By hand the shadow is
+        // shifted f·b·(1/1 − 1/3) = 29 px: [271, 277). Eq. (3) fits the hole as the panel's
+        // attached shadow (1.2 px, within the widening's 8), and eqs. (4)–(5) as the rod's
+        // detached shadow, the rod standing past a lit gap: the rod's rays are the first the
+        // projector's light meets, so the shadow is its.
+        let c = Calibration::nyu_default();
+        let wall = raw_at(&c, 3.0);
+        let mut row = vec![wall; WIDTH];
+        row[277..].fill(wall - 10);
+        row[300..306].fill(raw_at(&c, 1.0));
+        row[271..277].fill(NO_DEPTH);
+        assert_run(&run(&row), 271..277, DETACHED);
     }
 
     #[test]
