@@ -829,9 +829,10 @@ fn classify_bounded(
     // Eq. (3): the attached shadow of Sb on the surface of Sa is w = disp(Sb) − disp(Sa) wide.
     let w = p.disp(sb.near) - p.disp(sa.far);
     if w >= p.min_step && !same_surface(p, raw, h, sa, sb, p.min_step) {
-        // Eq. (3) fitting is no proof: a thin occluder past a lit gap may fit it by eqs. (4)–(5)
-        // (a rod's shadow ending at a small step, or at noise). Holes too wide for eq. (3) get
-        // the detached test below anyway.
+        // Eq. (3) fitting is no proof: Sb, read over three pixels, reaches through a lit gap of
+        // two to a rod whose width ties with its shift (its detached shadow, the gap showing in
+        // this row), and a rod's shadow may end at a small step. An occluder past a lit gap that
+        // fits eqs. (4)–(5) says detached. Holes too wide for eq. (3) get that test below.
         if (h.end - h.start) as f32 <= w + p.over && detached_beyond_sb(p, raw, h, sa, sb, rows) {
             set(labels, raw, h.start, h.end, DETACHED);
             return;
