@@ -831,8 +831,8 @@ fn classify_bounded(
     if w >= p.min_step && !same_surface(p, raw, h, sa, sb, p.min_step) {
         // Eq. (3) fitting is no proof: Sb, read over three pixels, reaches through a lit gap of
         // two to a rod whose width ties with its shift (its detached shadow, the gap showing in
-        // this row), and a rod's shadow may end at a small step. An occluder past a lit gap that
-        // fits eqs. (4)–(5) says detached. Holes too wide for eq. (3) get that test below.
+        // this row). An occluder past a lit gap that fits eqs. (4)–(5) says detached. Holes too
+        // wide for eq. (3) get that test below.
         if (h.end - h.start) as f32 <= w + p.over && detached_beyond_sb(p, raw, h, sa, sb, rows) {
             set(labels, raw, h.start, h.end, DETACHED);
             return;
