@@ -833,7 +833,8 @@ fn classify_bounded(
         // two to a rod whose width ties with its shift (its detached shadow, the gap showing in
         // this row). An occluder past a lit gap that fits eqs. (4)–(5) says detached. Holes too
         // wide for eq. (3) get that test below.
-        if (h.end - h.start) as f32 <= w + p.over && detached_beyond_sb(p, raw, h, sa, sb, rows) {
+        let fits3 = (h.end - h.start) as f32 <= w + p.over;
+        if fits3 && detached_beyond_sb(p, raw, h, sa, sb, rows) {
             set(labels, raw, h.start, h.end, DETACHED);
             return;
         }
@@ -842,10 +843,9 @@ fn classify_bounded(
         // (below), but a thin occluder further right whose shadow it fits by eqs. (4)–(5) says
         // more: only a detached shadow fits both its ends (a rod's shadow on a box's face, beside
         // the box's thin side). Where it also covers Sb's own shadow on Sa, the projector's ray
-        // meets that occluder first: its shadow, as `umbra synth` labels it.
-        if labels[h.start] == OTHER
-            && matches!(detached(p, raw, h, Some(sa), sb, rows), Detached::Measured)
-        {
+        // meets that occluder first: its shadow, as `umbra synth` labels it. (A hole eq. (3)
+        // fits had its occluder searched for above.)
+        if !fits3 && matches!(detached(p, raw, h, Some(sa), sb, rows), Detached::Measured) {
             set(labels, raw, h.start, h.end, DETACHED);
             return;
         }
