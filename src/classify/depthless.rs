@@ -31,6 +31,7 @@ use super::scanline::{beyond_range_span, FrameFacts, Range};
 use crate::calib::Calibration;
 use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
+mod behind_rod;
 mod offimage;
 mod pairs;
 mod unlike;
@@ -350,8 +351,18 @@ impl ColourSplit {
                 };
                 first = false;
                 if labels[i] != OTHER {
-                    if labels[i] == ATTACHED {
-                        self.unlike_its_surface(raw, rgb, labels, filled, v, (a, b));
+                    if labels[i] == ATTACHED
+                        && !self.unlike_its_surface(raw, rgb, labels, filled, v, (a, b))
+                    {
+                        self.occluder_behind_thin_sb(
+                            raw,
+                            rgb,
+                            labels,
+                            filled,
+                            v,
+                            (a, b),
+                            &mut prefix,
+                        );
                     }
                     u = mask.next_hole(b.max(u + 1));
                     continue;

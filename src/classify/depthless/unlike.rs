@@ -156,7 +156,7 @@ impl ColourSplit {
 
     /// The [`SIDE`] pixels of the OTHER hole next to the valid run of row `v` through column
     /// `from`, on its left (`left`) or right, if that run is at most [`THIN`] pixels wide.
-    fn hole_beyond(
+    pub(super) fn hole_beyond(
         &self,
         labels: &[u8],
         v: usize,
