@@ -1508,6 +1508,75 @@ fn black_box_behind_a_thin_rod_keeps_its_face_out_of_the_rods_shadow() {
     );
 }
 
+/// Rows `rows` of `frame` whose columns `us` are all DETACHED by the scene, and how many of
+/// those pixels `labels` calls DETACHED.
+fn detached_in(
+    frame: &SynthFrame,
+    labels: &[u8],
+    rows: std::ops::Range<usize>,
+    us: std::ops::Range<usize>,
+) -> (usize, usize) {
+    let (mut truth, mut found) = (0, 0);
+    for v in rows {
+        let at = |l: &[u8], u: usize| l[v * WIDTH + u] == DETACHED;
+        if us.clone().all(|u| at(&frame.ir_labels, u)) {
+            truth += us.len();
+            found += us.clone().filter(|&u| at(labels, u)).count();
+        }
+    }
+    (truth, found)
+}
+
+#[test]
+fn chained_black_rods_shadow_half_hidden_by_a_nearer_rod_is_detached() {
+    // The two chained black rods (7 px wide at 1 m before a wall at 3 m, IR columns 309.5..316.5
+    // and 325.5..332.5, their shadows f·b·(1/1 − 1/3) = 29.1 px left: 280.4..287.4 and
+    // 296.4..303.4), and a grey rod at 2 m (radius 11.16 mm, axis at x = −0.11256 m: columns
+    // 277.0..283.5) hiding the left part of rod A's shadow: its visible part, 283.5..287.4, has
+    // a nearer surface on its left and the wall on its right.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::rod_before_wall(0.0, 1.0, 0.006, 3.0);
+    scene.objects[1].material = umbra::synth::Material::black();
+    let rod_b = Scene::rod_before_wall(16.0 / calib.depth.fx, 1.0, 0.006, 3.0).objects[1].clone();
+    scene.push("rod", rod_b.shape, umbra::synth::Material::black());
+    push_grey_rod(&mut scene, -0.11256, 2.0, 0.01116);
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 6);
+    let out = classify_rgb(&calib, &frame);
+    let (truth, found) = detached_in(&frame, &out.ir_labels, 1..HEIGHT - 1, 284..287);
+    // Measured: 1434 of 1434 px; none when only holes with one background on both sides were
+    // shadows.
+    assert!(truth > 3 * 400, "the shadow shows in {} rows", truth / 3);
+    assert!(10 * found >= 9 * truth, "{found} of {truth} px detached");
+}
+
+#[test]
+fn black_rod_before_a_boxs_edge_has_its_shadow_on_the_box_detached() {
+    // A grey box whose front face (2 m) ends at x = 0 (IR column 313.04) before a wall at 3 m,
+    // and a black rod (radius 1 cm) at 1.2 m, axis at x = −0.00626 m: columns
+    // 313.04 + 582.62·(−0.00626 ± 0.01)/1.2 = 305.1..314.8, across the box's edge. Its shadow
+    // falls on the box, f·b·(1/1.2 − 1/2) = 14.6 px left: 290.5..300.2, then a lit gap of 4.9 px:
+    // detached. The rod's hole has the box on its left and the farther wall on its right.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::rod_before_wall(-0.00626, 1.2, 0.01, 3.0);
+    scene.objects[1].material = umbra::synth::Material::black();
+    scene.push(
+        "box",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(-0.75, 0.0, 2.05),
+            half: umbra::synth::V3::new(0.75, 3.0, 0.05),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::matte([0.45, 0.5, 0.6]),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 6);
+    let out = classify_rgb(&calib, &frame);
+    let (truth, found) = detached_in(&frame, &out.ir_labels, 1..HEIGHT - 1, 292..299);
+    // Measured: 3346 of 3346 px; none when an occluder's hole had to have one background on
+    // both sides.
+    assert!(truth > 7 * 400, "the shadow shows in {} rows", truth / 7);
+    assert!(10 * found >= 9 * truth, "{found} of {truth} px detached");
+}
+
 #[test]
 fn glossy_box_of_modest_contrast_has_its_shadow_split_off() {
     // The hand-computed box, glossy (no depth) and grey-blue on the pale wall: in the RGB image

@@ -9,6 +9,10 @@
 //! of a width the shadow could have, looks unlike it at the depth the shift implies; the rows
 //! above and below must hold the same pair, because an occluder is a solid.
 //!
+//! A shadow's start may be hidden by a nearer surface on its left (then only its right end and
+//! the background right of it are read), and an occluder's hole may have a farther surface on
+//! its right (a rod before an object's edge): the background of its shadow is the one on its left.
+//!
 //! Holes are met left to right, so each one is tried as the occluder of the recent holes of its
 //! row: no search along the row, which keeps the many holes of a real frame cheap.
 
@@ -28,12 +32,14 @@ const ROWS_AGREE: usize = 3;
 /// Holes of the current row remembered as shadow candidates.
 const RECENT: usize = 8;
 
-/// A hole `[a, b)` closed on both sides by one background, raw value `bg`.
+/// A hole `[a, b)` closed on both sides by one background, raw value `bg`; or, as a shadow, closed
+/// by it on the right only, a nearer surface on its left hiding the shadow's start (`hidden`).
 #[derive(Clone, Copy, Debug, Default)]
 struct Closed {
     a: usize,
     b: usize,
     bg: u16,
+    hidden: bool,
 }
 
 /// The last few closed holes of the row being scanned (scratch, reused).
@@ -42,6 +48,18 @@ pub(super) struct Recent {
     row: usize,
     holes: [Closed; RECENT],
     len: usize,
+}
+
+impl Recent {
+    /// Remembers `h`, forgetting the oldest hole when full.
+    fn push(&mut self, h: Closed) {
+        if self.len == RECENT {
+            self.holes.copy_within(1.., 0);
+            self.len -= 1;
+        }
+        self.holes[self.len] = h;
+        self.len += 1;
+    }
 }
 
 impl ColourSplit {
@@ -63,7 +81,11 @@ impl ColourSplit {
             (recent.row, recent.len) = (v, 0);
         }
         let row = &raw[v * WIDTH..(v + 1) * WIDTH];
-        let Some(o) = self.closed(row, (a, b)) else {
+        let Some(o) = self.occluder(row, (a, b)) else {
+            // Not an occluder's hole, but maybe a shadow whose start a nearer surface hides.
+            if let Some(h) = self.hidden_shadow(row, (a, b)) {
+                recent.push(h);
+            }
             return false;
         };
         for k in (0..recent.len).rev() {
@@ -90,12 +112,10 @@ impl ColourSplit {
             filled[base + o.a..base + o.b].fill(at);
             return true;
         }
-        if recent.len == RECENT {
-            recent.holes.copy_within(1.., 0);
-            recent.len -= 1;
+        // Remembered as a shadow for the holes right of it.
+        if let Some(h) = self.shadow(row, (a, b)) {
+            recent.push(h);
         }
-        recent.holes[recent.len] = o;
-        recent.len += 1;
         false
     }
 
@@ -106,17 +126,64 @@ impl ColourSplit {
         }
         let (l, r) = (row[a - 1], row[b]);
         (l != NO_DEPTH && r != NO_DEPTH && (self.disp(l) - self.disp(r)).abs() <= SAME_SURFACE)
-            .then(|| Closed { a, b, bg: l.max(r) })
+            .then(|| Closed {
+                a,
+                b,
+                bg: l.max(r),
+                hidden: false,
+            })
+    }
+
+    /// `[a, b)` as a shadow whose start a nearer surface on its left hides: the background
+    /// closes it on the right only. (A projector shadow lies left of its occluder, so the nearer
+    /// surface is not its occluder.)
+    fn hidden_shadow(&self, row: &[u16], (a, b): (usize, usize)) -> Option<Closed> {
+        if a < SIDE || b + SIDE > WIDTH || b - a < MIN_WIDTH {
+            return None;
+        }
+        let (l, r) = (row[a - 1], row[b]);
+        (l != NO_DEPTH && r != NO_DEPTH && self.disp(l) - self.disp(r) > SAME_SURFACE).then_some(
+            Closed {
+                a,
+                b,
+                bg: r,
+                hidden: true,
+            },
+        )
+    }
+
+    /// `[a, b)` as an occluder's hole: [`ColourSplit::closed`], or with a farther surface on its
+    /// right (a rod standing before an object's edge), the background of its shadow on its left.
+    fn occluder(&self, row: &[u16], (a, b): (usize, usize)) -> Option<Closed> {
+        if a < SIDE || b + SIDE > WIDTH || b - a < MIN_WIDTH {
+            return None;
+        }
+        let (l, r) = (row[a - 1], row[b]);
+        if l == NO_DEPTH || r == NO_DEPTH || self.disp(r) - self.disp(l) > SAME_SURFACE {
+            return None;
+        }
+        self.closed(row, (a, b)).or(Some(Closed {
+            a,
+            b,
+            bg: l,
+            hidden: false,
+        }))
+    }
+
+    /// `[a, b)` as a shadow: [`ColourSplit::closed`] or [`ColourSplit::hidden_shadow`].
+    fn shadow(&self, row: &[u16], hole: (usize, usize)) -> Option<Closed> {
+        self.closed(row, hole)
+            .or_else(|| self.hidden_shadow(row, hole))
     }
 
     /// The shift of occluder `o` casting shadow `h`, when the geometry allows it: one background,
-    /// a shadow as wide as the occluder or up to the widening wider, the right edges `shift`
-    /// apart, within the sensor's range.
+    /// a shadow as wide as the occluder (or narrower, its start hidden) or up to the widening
+    /// wider, the right edges `shift` apart, within the sensor's range.
     fn pair(&self, h: Closed, o: Closed) -> Option<usize> {
         let (hw, ow) = (h.b - h.a, o.b - o.a);
         let shift = o.b.checked_sub(h.b)?;
         (h.b <= o.a
-            && hw + 1 >= ow
+            && (hw + 1 >= ow || h.hidden)
             && hw <= ow + OVER
             && (self.disp(h.bg) - self.disp(o.bg)).abs() <= SAME_SURFACE
             && self.disp(h.bg) + shift as f64 <= self.max_disp)
@@ -132,7 +199,7 @@ impl ColourSplit {
             let (Some(hs), Some(os)) = (hole((h.a + h.b) / 2), hole((o.a + o.b) / 2)) else {
                 return false;
             };
-            let (Some(h2), Some(o2)) = (self.closed(row, hs), self.closed(row, os)) else {
+            let (Some(h2), Some(o2)) = (self.shadow(row, hs), self.occluder(row, os)) else {
                 return false;
             };
             self.pair(h2, o2)
@@ -146,8 +213,14 @@ impl ColourSplit {
         let colour_at = |x: f64, y: f64| rgb_at(rgb, x, y);
         let mean = |us: std::ops::Range<usize>, bg: u16| self.mean_colour(rgb, v, us, bg);
         // The background's colour left of the shadow (right of it the RGB camera may see a
-        // nearer occluder moved left over it), and right too when that agrees.
-        let Some(left) = mean(h.a - SIDE..h.a, h.bg) else {
+        // nearer occluder moved left over it), and right too when that agrees; right of it only
+        // when a nearer surface hides the shadow's start.
+        let side = if h.hidden {
+            h.b..h.b + SIDE
+        } else {
+            h.a - SIDE..h.a
+        };
+        let Some(left) = mean(side, h.bg) else {
             return false;
         };
         let bg = match mean(h.b..h.b + SIDE, h.bg) {
