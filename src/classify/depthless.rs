@@ -20,10 +20,13 @@
 //! - a hole with no shadow to split off still gets its occluder's depth from that right edge, so
 //!   the warp finds the alignment shadow beside it;
 //! - a depthless occluder's *detached* shadow, a separate hole, is paired with the occluder's
-//!   hole by colour where depth alone finds several candidates (`depthless/pairs.rs`).
+//!   hole by colour where depth alone finds several candidates (`depthless/pairs.rs`);
+//! - a hole the scanline called a thin Sb's attached shadow may hold a depthless object behind
+//!   that Sb, its face and its shadow, read as a hole running on into a nearer surface
+//!   (`depthless/behind_rod.rs`).
 //!
-//! Runs on holes the scanline left OTHER (splits only on those at least 10 px wide), after the
-//! scanline and before the warp; nothing is allocated.
+//! Runs on holes the scanline left OTHER (splits only on those at least 10 px wide; the thin-Sb
+//! reading on attached ones), after the scanline and before the warp; nothing is allocated.
 
 use super::align::Simd;
 use super::holes::HoleMask;
