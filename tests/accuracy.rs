@@ -534,6 +534,55 @@ fn black_box_at_the_left_border_behind_a_rod_is_no_shadow_of_it() {
 }
 
 #[test]
+fn narrow_hole_at_the_left_border_beside_a_near_rod_is_no_shadow_of_it() {
+    // The black box above, and a 2 cm grey rod nearer, at 0.8 m, its left edge at
+    // x = −0.4161 m: column cx + fx·(−0.4161/0.8) = 10.0. The hole left of it, 10 px, fits the
+    // rod's attached shadow on the wall seen above it (f·b·(1/0.8 − 1/3) = 40.0 px, cut by the
+    // border); it is the black box: OTHER. The RGB camera, a third of the way to the projector,
+    // sees the rod moved left by a third of its shift (over 10 px), right over the hole; left of
+    // the IR image's edge it sees the box.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::rod_before_wall(0.0, 1.0, 0.01, 3.0);
+    scene.objects.pop();
+    scene.push(
+        "box",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(-0.925, 0.7527, 2.05),
+            half: umbra::synth::V3::new(0.575, 0.7473, 0.05),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::black(),
+    );
+    scene.push(
+        "rod",
+        umbra::synth::Shape::Cylinder {
+            centre: umbra::synth::V3::new(-0.4061, 0.34, 0.8),
+            axis: umbra::synth::V3::new(0.0, 1.0, 0.0),
+            radius: 0.01,
+            half_len: 0.3,
+        },
+        umbra::synth::Material::matte([0.6, 0.6, 0.65]),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 7);
+    let depth_only = classify(&calib, &frame);
+    let out = classify_rgb(&calib, &frame);
+    let left = |labels: &[u8], v: usize, code: u8| {
+        (0..8).filter(|&u| labels[v * WIDTH + u] == code).count()
+    };
+    let rows = 280..HEIGHT - 1;
+    for v in rows.clone() {
+        assert_eq!(left(&frame.ir_labels, v, OTHER), 8, "row {v}: the scene");
+        assert_eq!(left(&out.ir_labels, v, ATTACHED), 0, "row {v}: with colour");
+    }
+    // Measured: 199 rows of 199; with colour, all 199 too while only the RGB camera's view of
+    // the hole itself (the rod) was read.
+    let fooled = rows
+        .filter(|&v| left(&depth_only.ir_labels, v, ATTACHED) == 8)
+        .count();
+    assert!(fooled > 150, "depth alone calls {fooled} rows attached");
+}
+
+#[test]
 fn black_rod_without_depth_still_casts_a_detached_shadow() {
     // The same rod geometry, but black: the sensor measures nothing on it, so its hole and its
     // shadow are two holes on the wall. Hand geometry: the 3 cm rod at 1.2 m spans

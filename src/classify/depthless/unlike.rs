@@ -118,17 +118,28 @@ impl ColourSplit {
         let Some(far) = self.hole_beyond(labels, v, b, false) else {
             return false;
         };
-        let Some(hole) = self.one_colour(rgb, v, (0, b), bg) else {
-            return false;
-        };
         let (Some(far), Some(occluder)) = (
             self.mean_colour(rgb, v, far, bg),
             self.mean_colour(rgb, v, b..b + 2, sb),
         ) else {
             return false;
         };
-        let step = self.dimmed(COLOUR_STEP, hole);
-        if hue_dist(hole, far) >= step || hue_dist(hole, occluder) < 2 * step {
+        let unlike_occluder =
+            |c: [i32; 3]| hue_dist(c, occluder) >= 2 * self.dimmed(COLOUR_STEP, c);
+        // Over a narrow hole beside a near Sb the RGB camera sees Sb (moved left by a third of
+        // its shift); it sees the hole's surface go on left of the IR image's edge, past that.
+        let hole = self
+            .one_colour(rgb, v, (0, b), bg)
+            .filter(|&c| unlike_occluder(c))
+            .or_else(|| {
+                let sb_seen = b as f64 - (self.disp(sb) - self.disp(bg)) / 3.0;
+                let (x, y) = self.project(sb_seen.min(0.0) - 4.0, v, bg);
+                super::rgb_mean3(rgb, x, y)
+            });
+        let Some(hole) = hole else {
+            return false;
+        };
+        if hue_dist(hole, far) >= self.dimmed(COLOUR_STEP, hole) || !unlike_occluder(hole) {
             return false;
         }
         relabel(&mut labels[row..row + b], ATTACHED, OTHER);
