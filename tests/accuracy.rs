@@ -484,16 +484,10 @@ fn gap_between_a_panel_and_a_rod_onto_a_wall_beyond_range_is_no_shadow() {
     assert!(fooled > 300, "depth alone calls {fooled} rows attached");
 }
 
-#[test]
-fn black_box_at_the_left_border_behind_a_rod_is_no_shadow_of_it() {
-    // A black box (front face at 2 m, x < −0.35 m, below y = 0.0054 m: rows from 240 down)
-    // before a wall at 3 m, and a 2 cm grey rod at 1.2 m standing on it from row 251 down, its
-    // left edge at x = −0.5994 m: column cx + fx·(−0.5994/1.2) = 22.0. Left of the rod, the box
-    // runs off the image: a hole from the border to column 22, as wide as the rod's attached
-    // shadow on the wall seen above it would be, f·b·(1/1.2 − 1/3) = 21.8 px. But the box
-    // returns no depth, lit or not: OTHER. The RGB camera sees the black box there, and right of
-    // the rod, not the wall and not the rod.
-    let calib = Calibration::nyu_default();
+/// A wall at 3 m, a black box (front face at 2 m, x < −0.35 m, below y = 0.0054 m: rows from 240
+/// down) running off the image's left border, and a 2 cm grey rod 60 cm long, its axis at
+/// (`x`, `y`, `z`), standing before it.
+fn black_box_at_the_left_border_behind_a_rod_at(x: f64, y: f64, z: f64) -> Scene {
     let mut scene = Scene::rod_before_wall(0.0, 1.0, 0.01, 3.0);
     scene.objects.pop();
     scene.push(
@@ -508,13 +502,27 @@ fn black_box_at_the_left_border_behind_a_rod_is_no_shadow_of_it() {
     scene.push(
         "rod",
         umbra::synth::Shape::Cylinder {
-            centre: umbra::synth::V3::new(-0.5894, 0.36, 1.2),
+            centre: umbra::synth::V3::new(x, y, z),
             axis: umbra::synth::V3::new(0.0, 1.0, 0.0),
             radius: 0.01,
             half_len: 0.3,
         },
         umbra::synth::Material::matte([0.6, 0.6, 0.65]),
     );
+    scene
+}
+
+#[test]
+fn black_box_at_the_left_border_behind_a_rod_is_no_shadow_of_it() {
+    // A black box (front face at 2 m, x < −0.35 m, below y = 0.0054 m: rows from 240 down)
+    // before a wall at 3 m, and a 2 cm grey rod at 1.2 m standing on it from row 251 down, its
+    // left edge at x = −0.5994 m: column cx + fx·(−0.5994/1.2) = 22.0. Left of the rod, the box
+    // runs off the image: a hole from the border to column 22, as wide as the rod's attached
+    // shadow on the wall seen above it would be, f·b·(1/1.2 − 1/3) = 21.8 px. But the box
+    // returns no depth, lit or not: OTHER. The RGB camera sees the black box there, and right of
+    // the rod, not the wall and not the rod.
+    let calib = Calibration::nyu_default();
+    let scene = black_box_at_the_left_border_behind_a_rod_at(-0.5894, 0.36, 1.2);
     let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 7);
     let depth_only = classify(&calib, &frame);
     let out = classify_rgb(&calib, &frame);
@@ -542,27 +550,7 @@ fn narrow_hole_at_the_left_border_beside_a_near_rod_is_no_shadow_of_it() {
     // sees the rod moved left by a third of its shift (over 10 px), right over the hole; left of
     // the IR image's edge it sees the box.
     let calib = Calibration::nyu_default();
-    let mut scene = Scene::rod_before_wall(0.0, 1.0, 0.01, 3.0);
-    scene.objects.pop();
-    scene.push(
-        "box",
-        umbra::synth::Shape::Box {
-            centre: umbra::synth::V3::new(-0.925, 0.7527, 2.05),
-            half: umbra::synth::V3::new(0.575, 0.7473, 0.05),
-            yaw: 0.0,
-        },
-        umbra::synth::Material::black(),
-    );
-    scene.push(
-        "rod",
-        umbra::synth::Shape::Cylinder {
-            centre: umbra::synth::V3::new(-0.4061, 0.34, 0.8),
-            axis: umbra::synth::V3::new(0.0, 1.0, 0.0),
-            radius: 0.01,
-            half_len: 0.3,
-        },
-        umbra::synth::Material::matte([0.6, 0.6, 0.65]),
-    );
+    let scene = black_box_at_the_left_border_behind_a_rod_at(-0.4061, 0.34, 0.8);
     let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 7);
     let depth_only = classify(&calib, &frame);
     let out = classify_rgb(&calib, &frame);
