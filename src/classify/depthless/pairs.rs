@@ -81,11 +81,9 @@ impl ColourSplit {
             (recent.row, recent.len) = (v, 0);
         }
         let row = &raw[v * WIDTH..(v + 1) * WIDTH];
+        // (A shadow whose start a nearer surface hides has a farther surface on its right, so
+        // it is tried as an occluder's hole first, and remembered as a shadow below.)
         let Some(o) = self.occluder(row, (a, b)) else {
-            // Not an occluder's hole, but maybe a shadow whose start a nearer surface hides.
-            if let Some(h) = self.hidden_shadow(row, (a, b)) {
-                recent.push(h);
-            }
             return false;
         };
         for k in (0..recent.len).rev() {
