@@ -51,20 +51,18 @@ impl ColourSplit {
         {
             return false;
         }
-        // Read as the colour split reads an open hole ending at a nearer surface (its candidates
-        // are OTHER holes): the labels go back if it finds no occluder.
-        relabel(&mut labels[row + a..row + b], ATTACHED, OTHER);
+        // Read as the colour split reads an open hole ending at a nearer surface (its shadow
+        // labels let through, as in a neighbouring row's candidate).
         let split = self
-            .candidate(raw, labels, v, (a, b), false, false)
+            .candidate(raw, labels, v, (a, b), true, false)
             .filter(|c| !c.closed && c.b == b && c.nearer_right == Some(sb))
             .and_then(|c| Some((c, self.agreed_split(raw, rgb, labels, v, c, prefix)?)))
             .map(|(_, (s, shift))| (s, self.disp(sa) + shift as f64 - self.widen))
             .filter(|&(s, d)| a + s + MIN_OCCLUDER <= b && d < self.disp(sb) - SAME_SURFACE);
         let Some((s, d)) = split else {
-            relabel(&mut labels[row + a..row + b], OTHER, ATTACHED);
             return false;
         };
-        relabel(&mut labels[row + a..row + a + s], OTHER, ATTACHED);
+        relabel(&mut labels[row + a + s..row + b], ATTACHED, OTHER);
         filled[row + a + s..row + b].fill(self.raw_at_disp(d));
         true
     }
