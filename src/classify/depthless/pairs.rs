@@ -119,53 +119,51 @@ impl ColourSplit {
 
     /// `[a, b)` as a closed hole: wide enough, with valid pixels of one depth on both sides.
     fn closed(&self, row: &[u16], (a, b): (usize, usize)) -> Option<Closed> {
-        if a < SIDE || b + SIDE > WIDTH || b - a < MIN_WIDTH {
-            return None;
-        }
-        let (l, r) = (row[a - 1], row[b]);
-        (l != NO_DEPTH && r != NO_DEPTH && (self.disp(l) - self.disp(r)).abs() <= SAME_SURFACE)
-            .then(|| Closed {
-                a,
-                b,
-                bg: l.max(r),
-                hidden: false,
-            })
+        let (l, r, step) = self.sides(row, (a, b))?;
+        (step.abs() <= SAME_SURFACE).then(|| Closed {
+            a,
+            b,
+            bg: l.max(r),
+            hidden: false,
+        })
     }
 
     /// `[a, b)` as a shadow whose start a nearer surface on its left hides: the background
     /// closes it on the right only. (A projector shadow lies left of its occluder, so the nearer
     /// surface is not its occluder.)
     fn hidden_shadow(&self, row: &[u16], (a, b): (usize, usize)) -> Option<Closed> {
-        if a < SIDE || b + SIDE > WIDTH || b - a < MIN_WIDTH {
-            return None;
-        }
-        let (l, r) = (row[a - 1], row[b]);
-        (l != NO_DEPTH && r != NO_DEPTH && self.disp(l) - self.disp(r) > SAME_SURFACE).then_some(
-            Closed {
-                a,
-                b,
-                bg: r,
-                hidden: true,
-            },
-        )
+        let (_, r, step) = self.sides(row, (a, b))?;
+        (step > SAME_SURFACE).then_some(Closed {
+            a,
+            b,
+            bg: r,
+            hidden: true,
+        })
     }
 
     /// `[a, b)` as an occluder's hole: [`ColourSplit::closed`], or with a farther surface on its
     /// right (a rod standing before an object's edge), the background of its shadow on its left.
     fn occluder(&self, row: &[u16], (a, b): (usize, usize)) -> Option<Closed> {
+        let (l, _, step) = self.sides(row, (a, b))?;
+        if step > SAME_SURFACE {
+            return Some(Closed {
+                a,
+                b,
+                bg: l,
+                hidden: false,
+            });
+        }
+        self.closed(row, (a, b))
+    }
+
+    /// The valid pixels either side of the hole `[a, b)` (wide enough, inside the image) and how
+    /// much nearer the left one is, in pixels of disparity.
+    fn sides(&self, row: &[u16], (a, b): (usize, usize)) -> Option<(u16, u16, f64)> {
         if a < SIDE || b + SIDE > WIDTH || b - a < MIN_WIDTH {
             return None;
         }
         let (l, r) = (row[a - 1], row[b]);
-        if l == NO_DEPTH || r == NO_DEPTH || self.disp(r) - self.disp(l) > SAME_SURFACE {
-            return None;
-        }
-        self.closed(row, (a, b)).or(Some(Closed {
-            a,
-            b,
-            bg: l,
-            hidden: false,
-        }))
+        (l != NO_DEPTH && r != NO_DEPTH).then(|| (l, r, self.disp(l) - self.disp(r)))
     }
 
     /// `[a, b)` as a shadow: [`ColourSplit::closed`] or [`ColourSplit::hidden_shadow`].
