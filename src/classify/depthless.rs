@@ -814,13 +814,19 @@ impl ColourSplit {
         prefix: &mut Prefix,
     ) -> Option<usize> {
         // Most holes this narrow are no occluder's, and are ruled out before any search. But a
-        // nearer surface left of one (a rod before a black box) may hide all but a strip of it.
+        // nearer surface left of one (a rod before a black box) may hide all but a strip of it,
+        // and a thin black rod before a wall leaves one as narrow, one surface on both sides
+        // (its shadow not paired with it: on a black poster, or chained with other holes).
         let cur = &raw[v * WIDTH..(v + 1) * WIDTH];
-        let hidden = a > 0
-            && b < WIDTH
-            && cur[a - 1] != NO_DEPTH
-            && self.disp(cur[a - 1]) - self.disp(cur[b]) > SAME_SURFACE;
-        let min_w = if hidden { MIN_HOLE } else { 2 * MIN_HOLE };
+        let step = (a > 0 && b < WIDTH && cur[a - 1] != NO_DEPTH)
+            .then(|| self.disp(cur[a - 1]) - self.disp(cur[b]));
+        let hidden = step.is_some_and(|s| s > SAME_SURFACE);
+        let closed = step.is_some_and(|s| s.abs() <= SAME_SURFACE);
+        let min_w = if hidden || closed {
+            MIN_HOLE
+        } else {
+            2 * MIN_HOLE
+        };
         // The hole of row `w` through column `b − 1` (or `b − 2`), if it ends within `slant` of
         // `b` (a slanted edge moves a pixel or so a row) and the edge can be read from it.
         let hole = |w: usize, slant: usize| {
@@ -850,9 +856,14 @@ impl ColourSplit {
         if !(ends.0 <= b && b <= ends.1 || ends.0 >= b && b >= ends.1) {
             return None;
         }
-        let t = self.right_edge(rgb, v, (a, b), raw[v * WIDTH + b], prefix)?;
+        // A narrow one is a rod's only where both its ends run on through the three rows (the
+        // sensor's own small holes in clutter do not; a speckle cluster this wide is rare).
+        if closed && b - a < 2 * MIN_HOLE && (above.0.abs_diff(a) > 2 || below.0.abs_diff(a) > 2) {
+            return None;
+        }
+        let t = self.right_edge(rgb, v, (a, b), raw, prefix)?;
         let mut agrees = |w: usize, span: (usize, usize)| {
-            self.right_edge(rgb, w, span, raw[w * WIDTH + span.1], prefix)
+            self.right_edge(rgb, w, span, raw, prefix)
                 .is_some_and(|u| u.abs_diff(t) <= EDGE_AGREE)
         };
         (agrees(v - 1, above) && agrees(v + 1, below)).then_some(t)
@@ -867,9 +878,10 @@ impl ColourSplit {
         rgb: &[u8],
         v: usize,
         (a, b): (usize, usize),
-        bg: u16,
+        raw: &[u16],
         prefix: &mut Prefix,
     ) -> Option<usize> {
+        let bg = raw[v * WIDTH + b];
         let d_bg = self.disp(bg);
         let widest = self.widest(bg);
         if widest < 3 {
@@ -883,8 +895,22 @@ impl ColourSplit {
             self.project(b as f64 - 0.5, v, self.raw_at_disp(d_bg + widest as f64))
                 .0,
         );
+        // The RGB camera sees an occluder left of where its hole lies at the background's
+        // depth, by a third of its shift: left of the hole's own columns when the occluder is
+        // narrower than that (a thin black rod). The window reaches there for a narrow hole with
+        // one surface on both sides; a nearer surface on its left would fill the window with its
+        // own colour, and a wider hole's left side is the occluder's.
+        let left = raw[v * WIDTH + a.max(1) - 1];
+        let thin = b - a < 2 * MIN_HOLE
+            && a > 0
+            && left != NO_DEPTH
+            && (self.disp(left) - d_bg).abs() <= SAME_SURFACE;
         let far_left = ceil(self.project(a as f64 - 0.5, v, bg).0);
-        let x0 = (near - OPEN_WINDOW as i64).max(far_left);
+        let x0 = if thin {
+            near - OPEN_WINDOW as i64
+        } else {
+            (near - OPEN_WINDOW as i64).max(far_left)
+        };
         let x1 = xb + SIDE as i64;
         if x0 < 0
             || x1 > WIDTH as i64
