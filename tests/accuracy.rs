@@ -1288,6 +1288,65 @@ fn black_box_before_a_banded_wall(width: f64, edge: f64, dark: f64) {
 }
 
 #[test]
+fn black_rod_before_a_wall_of_two_hues_has_its_attached_shadow_split_off() {
+    // A black rod 3.7 cm thick at 2.2 m before a wall at 2.9 m papered in vertical bands 6 cm
+    // wide of two purples that differ in hue (green 0.25 against 0.35): thicker than
+    // 7.5·(1 − 2.2/2.9) = 1.8 cm, so its shadow is attached, f·b·(1/2.2 − 1/2.9) = 4.8 px left
+    // of its 582.62·0.037/2.2 = 9.8 px; its hole is about 15 px. A band edge lies behind the
+    // rod's axis, so the wall left of the hole is one purple and right of it the other: the
+    // two sides differ, as two surfaces would, where only the wall's pattern changes.
+    // Measured: attached F1 0.925 (0.712 when such a hole was read only where its sides agree).
+    let calib = Calibration::nyu_default();
+    let (x_rod, z_rod, z_wall) = (-0.2, 2.2, 2.9);
+    let edge = x_rod * z_wall / z_rod;
+    let mut scene = Scene::new("black rod before a wall of two hues");
+    for k in -40..40 {
+        let green = if k % 2 == 0 { 0.25 } else { 0.35 };
+        scene.push(
+            "wall",
+            umbra::synth::Shape::Box {
+                centre: umbra::synth::V3::new(
+                    edge + 0.06 * (f64::from(k) - 0.5),
+                    0.0,
+                    z_wall + 0.05,
+                ),
+                half: umbra::synth::V3::new(0.03, 3.0, 0.05),
+                yaw: 0.0,
+            },
+            umbra::synth::Material::matte([0.45, green, 0.6]),
+        );
+    }
+    let rod = Scene::rod_before_wall(x_rod, z_rod, 0.0185, z_wall).objects[1].clone();
+    scene.push("rod", rod.shape, umbra::synth::Material::black());
+    let (mut depth_only, mut with_rgb) = (Confusion::default(), Confusion::default());
+    for seed in 70..73 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
+        let shadow = row.iter().filter(|&&l| l == ATTACHED).count();
+        assert!(
+            (4..=9).contains(&shadow),
+            "the simulator's shadow: {shadow} px"
+        );
+        depth_only.add(&frame.ir_labels, &classify(&calib, &frame).ir_labels);
+        with_rgb.add(&frame.ir_labels, &classify_rgb(&calib, &frame).ir_labels);
+    }
+    let r = depth_only.class(ATTACHED).recall.unwrap_or(0.0);
+    assert!(
+        r < 0.2,
+        "depth alone splits the hole: attached recall {r:.3}"
+    );
+    at_least(
+        &with_rgb,
+        Some(ATTACHED),
+        0.9,
+        "IR attached of a black rod before a wall of two hues",
+    );
+    let any = with_rgb.any_shadow();
+    // (Precision 0.970: the split's edge a pixel into the rod in some rows.)
+    assert!(any.precision.unwrap() >= 0.95, "IR any shadow {any:?}");
+}
+
+#[test]
 fn plain_panel_beside_a_darker_wall_beyond_range_casts_no_shadow_from_colour() {
     // A plain panel at 2 m ends at x = 0 (column cx = 313.0); behind it a wall at 5 m, beyond
     // the sensor's range, of the panel's colour in 80 % of its light; a black box at 1.5 m from
