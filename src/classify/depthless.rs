@@ -1631,7 +1631,7 @@ mod tests {
         // The same fall spread evenly over 30 columns (shading round a cylinder): 2.7 a column,
         // so two columns either side of one differ by 4 columns' worth, 3·10.7 = 32 < 120.
         let ramp: Vec<_> = (0..40)
-            .map(|k| grey(200 - (80 * (k as i32 - 5).clamp(0, 30)) / 30))
+            .map(|k| grey(200 - (80 * (k - 5).clamp(0, 30)) / 30))
             .collect();
         for o0 in [10, 20, 30] {
             assert!(!steps_in(&ramp, o0, contrast), "ramp, layout at {o0}");
