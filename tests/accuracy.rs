@@ -597,7 +597,6 @@ fn thin_black_rod_whose_shadow_falls_on_a_black_poster_keeps_its_alignment_strip
     // f_rgb·0.025·(1/1.2 − 1/3) = 6.5 px left of where the wall behind it would put it, and the
     // wall in that strip, which the IR camera cannot see (alignment, by the simulator).
     // Measured: alignment F1 0.921 (precision 1.000), 0 before narrow holes were read.
-    let calib = Calibration::nyu_default();
     let mut scene = Scene::rod_before_wall(0.1, 1.2, 0.015, 3.0);
     scene.objects[1].material = umbra::synth::Material::black();
     scene.push(
@@ -609,17 +608,13 @@ fn thin_black_rod_whose_shadow_falls_on_a_black_poster_keeps_its_alignment_strip
         },
         umbra::synth::Material::black(),
     );
-    let (mut depth_only, mut with_rgb) = (Confusion::default(), Confusion::default());
-    for seed in 40..43 {
-        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+    let (depth_only, with_rgb) = with_and_without_colour(&scene, 40..43, true, |frame| {
         let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
         assert!(
             !row.contains(&DETACHED) && row[325..348].iter().all(|&l| l == OTHER),
             "the poster swallows the shadow"
         );
-        depth_only.add(&frame.rgb_labels, &classify(&calib, &frame).rgb_labels);
-        with_rgb.add(&frame.rgb_labels, &classify_rgb(&calib, &frame).rgb_labels);
-    }
+    });
     let r = depth_only.class(ALIGNMENT).recall.unwrap_or(0.0);
     assert!(
         r < 0.2,
@@ -633,6 +628,32 @@ fn thin_black_rod_whose_shadow_falls_on_a_black_poster_keeps_its_alignment_strip
     );
     let any = with_rgb.any_shadow();
     assert!(any.precision.unwrap() >= 0.95, "RGB any shadow {any:?}");
+}
+
+/// `scene` rendered with the noisy Kinect sensor for each seed (each frame first handed to
+/// `truth`, which checks the simulator made the case), scored from depth alone and with the RGB
+/// image: confusions of the RGB view with `rgb`, else of the IR view.
+fn with_and_without_colour(
+    scene: &Scene,
+    seeds: std::ops::Range<u64>,
+    rgb: bool,
+    truth: impl Fn(&SynthFrame),
+) -> (Confusion, Confusion) {
+    let calib = Calibration::nyu_default();
+    let (mut depth_only, mut with_rgb) = (Confusion::default(), Confusion::default());
+    for seed in seeds {
+        let frame = render_frame(scene, &calib, &SensorModel::kinect(), seed);
+        truth(&frame);
+        let (a, b) = (classify(&calib, &frame), classify_rgb(&calib, &frame));
+        if rgb {
+            depth_only.add(&frame.rgb_labels, &a.rgb_labels);
+            with_rgb.add(&frame.rgb_labels, &b.rgb_labels);
+        } else {
+            depth_only.add(&frame.ir_labels, &a.ir_labels);
+            with_rgb.add(&frame.ir_labels, &b.ir_labels);
+        }
+    }
+    (depth_only, with_rgb)
 }
 
 /// A black rod at `(x, z, radius)` (metres) before a wall at 3 m, rendered with the noisy Kinect
@@ -1296,7 +1317,6 @@ fn black_rod_before_a_wall_of_two_hues_has_its_attached_shadow_split_off() {
     // rod's axis, so the wall left of the hole is one purple and right of it the other: the
     // two sides differ, as two surfaces would, where only the wall's pattern changes.
     // Measured: attached F1 0.925 (0.712 when such a hole was read only where its sides agree).
-    let calib = Calibration::nyu_default();
     let (x_rod, z_rod, z_wall) = (-0.2, 2.2, 2.9);
     let edge = x_rod * z_wall / z_rod;
     let mut scene = Scene::new("black rod before a wall of two hues");
@@ -1318,18 +1338,14 @@ fn black_rod_before_a_wall_of_two_hues_has_its_attached_shadow_split_off() {
     }
     let rod = Scene::rod_before_wall(x_rod, z_rod, 0.0185, z_wall).objects[1].clone();
     scene.push("rod", rod.shape, umbra::synth::Material::black());
-    let (mut depth_only, mut with_rgb) = (Confusion::default(), Confusion::default());
-    for seed in 70..73 {
-        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+    let (depth_only, with_rgb) = with_and_without_colour(&scene, 70..73, false, |frame| {
         let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
         let shadow = row.iter().filter(|&&l| l == ATTACHED).count();
         assert!(
             (4..=9).contains(&shadow),
             "the simulator's shadow: {shadow} px"
         );
-        depth_only.add(&frame.ir_labels, &classify(&calib, &frame).ir_labels);
-        with_rgb.add(&frame.ir_labels, &classify_rgb(&calib, &frame).ir_labels);
-    }
+    });
     let r = depth_only.class(ATTACHED).recall.unwrap_or(0.0);
     assert!(
         r < 0.2,
