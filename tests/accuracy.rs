@@ -2008,6 +2008,48 @@ fn black_box_across_the_right_border_is_split_from_its_left_side() {
     );
 }
 
+#[test]
+fn black_panel_across_the_right_border_and_the_whole_height_keeps_its_shadow() {
+    // A black panel 10 cm thick from x = 0.3 m to beyond the right border (0.56 m at 1 m), 1.0 to
+    // 1.1 m away and taller than the view, before a wall at 3 m, the frame's farthest surface:
+    // its shadow, cast by its left face's far edge, f·b·(1/1.1 − 1/3) = 25.2 px (and the
+    // sensor's widening), runs from the frame's top to its bottom, and no row above ever
+    // measures its columns, as none measures a wall that leaves the sensor's range there.
+    // The wall left of it is measured, and in range: the shadow is a shadow. (A rule that read
+    // such holes as a wall leaving the range, tried on 2026-12-04, lost all of it under a
+    // noise-free sensor.) Measured: attached F1 0.967 (precision 0.939: the split's edge a pixel
+    // or two into the panel's hole).
+    let mut scene = Scene::new("black panel across the right border");
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(3.0),
+        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
+    );
+    scene.push(
+        "panel",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(0.8, 0.0, 1.05),
+            half: umbra::synth::V3::new(0.5, 3.0, 0.05),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::black(),
+    );
+    let (_, with_rgb) = with_and_without_colour(&scene, 90..93, false, |frame| {
+        let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
+        let shadow = row.iter().filter(|&&l| l == ATTACHED).count();
+        assert!(
+            (25..=30).contains(&shadow),
+            "the simulator's shadow: {shadow} px"
+        );
+    });
+    at_least(
+        &with_rgb,
+        Some(ATTACHED),
+        0.95,
+        "IR attached of a black panel across the right border",
+    );
+}
+
 /// A black pipe (r = 1.5 cm, `2·half_len` long) centred at 1 m before a wall at 3 m, its axis
 /// rising `slope` per unit across: its edge moves 1/slope px a row.
 fn black_pipe_before_wall(slope: f64, half_len: f64) -> Scene {
