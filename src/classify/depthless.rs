@@ -925,9 +925,10 @@ impl ColourSplit {
     }
 
     /// The shift (disparity above the background right of it, `raw` at `b`) of an occluder whose
-    /// right edge is the end `b` of the hole `[a, b)` in row `v`: the RGB camera, 2.5 cm to the right,
-    /// sees background past that edge, in a strip as wide as a third of the shift (the alignment
-    /// shadow). Requires occluder colour left of the strip and background colour in it and beyond.
+    /// right edge is the end `b` of the hole `[a, b)` in row `v`: the RGB camera, 2.5 cm to the
+    /// right, sees background past that edge, in a strip as wide as a third of the shift (the
+    /// alignment shadow). Requires occluder colour left of the strip and background colour in it
+    /// and beyond.
     fn right_edge(
         &self,
         rgb: &[u8],
