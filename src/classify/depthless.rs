@@ -804,8 +804,8 @@ impl ColourSplit {
     ) -> bool {
         // A hole just right of a detached shadow is that shadow's occluder, whose image the RGB
         // camera sees moved left over the lit gap: no wall's pattern.
-        let near = a.saturating_sub(self.widest(bg))..a;
-        if labels[v * WIDTH + near.start..v * WIDTH + near.end].contains(&DETACHED) {
+        let widest = self.widest(bg);
+        if labels[v * WIDTH + a.saturating_sub(widest)..v * WIDTH + a].contains(&DETACHED) {
             return false;
         }
         let probe = |u: usize| self.probe(rgb, u, v, bg);
@@ -813,7 +813,7 @@ impl ColourSplit {
             return false;
         };
         // Not over the stretch next to the hole, where the RGB camera may see the occluder.
-        let Some(end) = a.checked_sub(self.widest(bg) / 3) else {
+        let Some(end) = a.checked_sub(widest / 3) else {
             return false;
         };
         let Some(start) = end.checked_sub(SPREAD_SPAN) else {
@@ -956,11 +956,10 @@ impl ColourSplit {
         // narrower than that (a thin black rod). The window reaches there for a narrow hole with
         // one surface on both sides; a nearer surface on its left would fill the window with its
         // own colour, and a wider hole's left side is the occluder's.
-        let left = raw[v * WIDTH + a.max(1) - 1];
-        let thin = b - a < 2 * MIN_HOLE
-            && a > 0
-            && left != NO_DEPTH
-            && (self.disp(left) - d_bg).abs() <= SAME_SURFACE;
+        let thin = a > 0 && b - a < 2 * MIN_HOLE && {
+            let left = raw[v * WIDTH + a - 1];
+            left != NO_DEPTH && (self.disp(left) - d_bg).abs() <= SAME_SURFACE
+        };
         let far_left = ceil(self.project(a as f64 - 0.5, v, bg).0);
         let x0 = if thin {
             near - OPEN_WINDOW as i64
