@@ -4,6 +4,7 @@
 //! Everything here is pure computation on caller-owned buffers: no I/O, no per-frame allocation.
 
 pub mod align;
+pub mod bands;
 pub mod consensus;
 pub mod depthless;
 mod holes;
@@ -108,6 +109,7 @@ impl Classifier {
             self.warp.set_noise_scale(self.colour.noise_scale());
         }
         consensus::settle(&mut out.ir_labels);
+        bands::bridge_detached(&mut out.ir_labels);
         self.warp.apply_with_colour(
             &self.filled,
             &out.ir_labels,
