@@ -6,12 +6,12 @@
 //! rows (a glossy rod between its lit patches, a dark one), those rows have no Fa/Fb to test and
 //! the colour split may not pair them either, so the band alternates between DETACHED and OTHER
 //! for tens of rows: longer than [`consensus`](super::consensus) bridges. Here a gap of rows
-//! whose holes are all OTHER, each of like extent to the one above (ends within [`DRIFT`]),
-//! between DETACHED holes of like extent right above and right below it, takes DETACHED when the
-//! band within [`REACH`] rows of the gap, followed row by row, holds at least [`MAJORITY`] times
-//! as many DETACHED rows as OTHER ones (the gap's counted). A band that is mostly OTHER keeps its
-//! stray DETACHED rows for consensus to judge: a black rod whose own hole a few rows paired with
-//! the wrong shadow stays OTHER.
+//! whose holes are all OTHER, each of like extent to the one above (ends within 3 px), between
+//! DETACHED holes of like extent right above and right below it, takes DETACHED when the band
+//! within 48 rows of the gap, followed row by row, holds at least twice as many DETACHED rows as
+//! OTHER ones (the gap's counted). A band that is mostly OTHER keeps its stray DETACHED rows for
+//! consensus to judge: a black rod whose own hole a few rows paired with the wrong shadow stays
+//! OTHER.
 
 use crate::labels::{DETACHED, HEIGHT, OTHER, VALID, WIDTH};
 
