@@ -58,9 +58,11 @@ pub fn bridge_detached(labels: &mut [u8]) {
             down[v][k] = if up[v][k] == v as i16 {
                 v as i16
             } else {
-                down.get(v + 1)
-                    .filter(|_| v + 1 < rows)
-                    .map_or(i16::MAX, |d| d[k])
+                if v + 1 < rows {
+                    down[v + 1][k]
+                } else {
+                    i16::MAX
+                }
             };
         }
     }
@@ -213,7 +215,10 @@ fn bridged_gap(
     let mut len = 1;
     let bottom = loop {
         let y = v + len;
-        let hole = like_hole(row(y.min(rows - 1)), gap[len - 1]).filter(|_| y < rows)?;
+        if y >= rows {
+            return None;
+        }
+        let hole = like_hole(row(y), gap[len - 1])?;
         match kind(&row(y)[hole.0..hole.1]) {
             Kind::Detached => break hole,
             Kind::Other if len < REACH => {
