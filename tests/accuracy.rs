@@ -630,6 +630,48 @@ fn thin_black_rod_whose_shadow_falls_on_a_black_poster_keeps_its_alignment_strip
     assert!(any.precision.unwrap() >= 0.95, "RGB any shadow {any:?}");
 }
 
+#[test]
+fn black_poster_inside_a_box_shadow_is_other_where_the_rgb_camera_sees_it() {
+    // The box's left edge (x = −0.2 m at 1 m) at IR column 313.04 − 582.62·0.2 = 196.5, the wall
+    // at 3 m: an attached shadow f·b·(1/1 − 1/3) = 29.1 px wide, columns 167.4..196.5, rows
+    // 238.44 ± 0.25·582.69 (±146). A black poster on the wall at x = −0.70..−0.66 m (columns
+    // 177.1..184.9), 1 m tall (rows ±97), lies inside it: a hole that would be a hole even if
+    // lit, OTHER (SPEC §1), though eq. (3) fits the hole around it. The RGB camera sees the wall
+    // up to f_rgb·0.025·(1/1 − 1/3) = 8.6 px short of the box's edge: the poster in full.
+    // Measured: attached precision 0.830 → 0.988 with the RGB image (recall 1.000 → 0.970), F1
+    // 0.907 → 0.979.
+    let mut scene = Scene::box_before_wall(1.0, 3.0);
+    scene.push(
+        "poster",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(-0.68, 0.0, 2.995),
+            half: umbra::synth::V3::new(0.02, 0.5, 0.004),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::black(),
+    );
+    let (depth_only, with_rgb) = with_and_without_colour(&scene, 50..53, false, |frame| {
+        let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
+        assert!(
+            row[179..184].iter().all(|&l| l == OTHER)
+                && row[170..175].iter().all(|&l| l == ATTACHED)
+                && row[188..195].iter().all(|&l| l == ATTACHED),
+            "the poster lies inside the shadow: {:?}",
+            &row[165..200]
+        );
+    });
+    let p = depth_only.class(ATTACHED).precision.unwrap_or(1.0);
+    assert!(p < 0.9, "depth alone calls the poster attached: P {p:.3}");
+    let p = with_rgb.class(ATTACHED).precision.unwrap_or(0.0);
+    assert!(p >= 0.97, "attached precision with the RGB image {p:.3}");
+    at_least(
+        &with_rgb,
+        Some(ATTACHED),
+        0.95,
+        "attached around a black poster",
+    );
+}
+
 /// `scene` rendered with the noisy Kinect sensor for each seed (each frame first handed to
 /// `truth`, which checks the simulator made the case), scored from depth alone and with the RGB
 /// image: confusions of the RGB view with `rgb`, else of the IR view.

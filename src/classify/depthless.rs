@@ -35,6 +35,7 @@ use crate::calib::Calibration;
 use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
 mod behind_rod;
+mod dark;
 mod offimage;
 mod pairs;
 mod unlike;
@@ -358,8 +359,7 @@ impl ColourSplit {
                 if labels[i] != OTHER {
                     if labels[i] == ATTACHED
                         && !self.unlike_its_surface(raw, rgb, labels, filled, v, (a, b))
-                    {
-                        self.occluder_behind_thin_sb(
+                        && !self.occluder_behind_thin_sb(
                             raw,
                             rgb,
                             labels,
@@ -367,7 +367,11 @@ impl ColourSplit {
                             v,
                             (a, b),
                             &mut prefix,
-                        );
+                        )
+                    {
+                        // Last: a split above may leave a depthless occluder, nearer than Sa,
+                        // whose face the RGB camera sees over the shadow at Sa's depth.
+                        self.on_a_dark_surface(raw, rgb, labels, v, (a, b));
                     }
                     u = mask.next_hole(b.max(u + 1));
                     continue;
