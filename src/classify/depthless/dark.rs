@@ -7,7 +7,10 @@
 //! as one far darker than Sa beside it. Only the part of the hole the RGB camera sees past the
 //! occluder is read (it sees the occluder over the hole's right part), at Sa's depth; a dark run
 //! that reaches the occluder runs on behind it to the hole's end. A dark Sa is no reference: in
-//! a dim room everything is near black (the real NYU frame's shadows along the floor).
+//! a dim room everything is near black (the real NYU frame's shadows along the floor). Nor is Sa
+//! always the shadow's surface: past a pale box's edge the shadow may lie on a darker wall
+//! behind it, so a run with no lit stretch of the hole before it must be black in itself, and
+//! one that reaches the occluder needs a few pixels of Sa's surface before it.
 
 use super::{ColourSplit, SIDE};
 use crate::labels::{ATTACHED, NO_DEPTH, OTHER, WIDTH};
@@ -18,8 +21,15 @@ const LIT_SIDE: i32 = 240;
 const TIMES_DARKER: i32 = 3;
 /// ...and brighter by this much (the camera's noise on a dim side).
 const MIN_STEP: i32 = 60;
+/// Brightness (R + G + B) under which a run that starts at the hole's first pixel counts: the RGB
+/// camera then never sees Sa's surface in the hole, and the shadow may lie on a farther, darker
+/// surface than Sa (a dark wall past a pale box's edge) rather than on a black one.
+const BLACK: i32 = 120;
 /// Shortest dark run (pixels) taken: single pixels are noise or an edge's blend.
 const MIN_RUN: usize = 2;
+/// Pixels of Sa's surface a run that reaches the occluder needs before it: past a pale box's
+/// edge (its blend, two pixels) the shadow may lie on a farther, darker wall.
+const LEAD: usize = 4;
 /// Widest hole read (pixels): eq. (3) gives more only for an occluder nearer than the sensor's
 /// range (about 0.35 m before a far wall).
 const WIDEST: usize = 128;
@@ -68,6 +78,7 @@ impl ColourSplit {
         let span = (b - a) as f64;
         let (dx, dy) = ((xb - xa) / span, (yb - ya) / span);
         let mut dark = 0u128;
+        let mut black = 0u128;
         let mut seen = 0;
         for u in a..b {
             let k = (u - a) as f64;
@@ -79,7 +90,9 @@ impl ColourSplit {
                 break;
             };
             let c = p.iter().sum::<i32>();
-            dark |= u128::from(TIMES_DARKER * c < side && side - c > MIN_STEP) << (u - a);
+            let d = TIMES_DARKER * c < side && side - c > MIN_STEP;
+            dark |= u128::from(d) << (u - a);
+            black |= u128::from(d && c < BLACK) << (u - a);
             seen += 1;
         }
         let mut changed = false;
@@ -90,7 +103,14 @@ impl ColourSplit {
                 break;
             }
             let end = (start + (!(dark >> start)).trailing_zeros() as usize).min(seen);
-            if end - start >= MIN_RUN {
+            // From the hole's first pixel it must be black; on to the occluder, after Sa's
+            // surface shown over a few pixels (not an edge's blend).
+            let ok = if start == 0 {
+                (start..end).all(|j| black >> j & 1 == 1)
+            } else {
+                end < seen || start >= LEAD
+            };
+            if end - start >= MIN_RUN && ok {
                 let to = if end == seen { b - a } else { end };
                 labels[row + a + start..row + a + to].fill(OTHER);
                 changed = true;
