@@ -57,12 +57,10 @@ pub fn bridge_detached(labels: &mut [u8]) {
         for k in 0..WORDS {
             down[v][k] = if up[v][k] == v as i16 {
                 v as i16
+            } else if v + 1 < rows {
+                down[v + 1][k]
             } else {
-                if v + 1 < rows {
-                    down[v + 1][k]
-                } else {
-                    i16::MAX
-                }
+                i16::MAX
             };
         }
     }
