@@ -147,7 +147,6 @@ fn word_of(chunk: &[u8], label: u8) -> u64 {
 }
 
 /// The bits of up to 64 pixels, one compare and shift each.
-#[cfg_attr(target_arch = "x86_64", allow(dead_code))]
 fn fold_word(chunk: &[u8], label: u8) -> u64 {
     chunk
         .iter()

@@ -812,15 +812,16 @@ impl ColourSplit {
         if labels[v * WIDTH + a.saturating_sub(widest)..v * WIDTH + a].contains(&DETACHED) {
             return false;
         }
-        let probe = |u: usize| self.probe(rgb, u, v, bg);
-        let (Some(l), Some(r)) = (probe(a - 2), probe((b + 1).min(WIDTH - 1))) else {
-            return false;
-        };
-        // Not over the stretch next to the hole, where the RGB camera may see the occluder.
+        // The wall's stretch, not the one next to the hole, where the RGB camera may see the
+        // occluder.
         let Some(end) = a.checked_sub(widest / 3) else {
             return false;
         };
         let Some(start) = end.checked_sub(SPREAD_SPAN) else {
+            return false;
+        };
+        let probe = |u: usize| self.probe(rgb, u, v, bg);
+        let (Some(l), Some(r)) = (probe(a - 2), probe((b + 1).min(WIDTH - 1))) else {
             return false;
         };
         let Some(m) = probe((a + b) / 2) else {

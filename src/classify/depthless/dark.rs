@@ -38,7 +38,7 @@ const BEFORE_EDGE: f64 = 1.5;
 
 impl ColourSplit {
     /// Relabels OTHER the pixels of the attached hole `[a, b)` of row `v` that lie on a black
-    /// surface (see the module's docs). True when it did.
+    /// surface (see the module's docs).
     pub(super) fn on_a_dark_surface(
         &self,
         raw: &[u16],
@@ -46,29 +46,29 @@ impl ColourSplit {
         labels: &mut [u8],
         v: usize,
         (a, b): (usize, usize),
-    ) -> bool {
+    ) {
         let row = v * WIDTH;
         if a < SIDE || b >= WIDTH || b - a <= MIN_RUN || b - a > WIDEST {
-            return false;
+            return;
         }
         let (sa, sb) = (raw[row + a - 1], raw[row + b]);
         if sb == NO_DEPTH
             || raw[row + a - SIDE..row + a].contains(&NO_DEPTH)
             || !labels[row + a..row + b].iter().all(|&l| l == ATTACHED)
         {
-            return false;
+            return;
         }
         // Sa's side, seen at Sa's depth: the mean of its probes.
         let mut side = 0;
         for u in a - SIDE..a {
             let Some(p) = self.probe(rgb, u, v, sa) else {
-                return false;
+                return;
             };
             side += p.iter().sum::<i32>();
         }
         let side = side / SIDE as i32;
         if side < LIT_SIDE {
-            return false;
+            return;
         }
         let occluder_x = self.project(b as f64 - 0.5, v, sb).0 - BEFORE_EDGE;
         // Dark pixels of the visible part, a bit per pixel from `a`. Over a hole the projection
@@ -95,7 +95,6 @@ impl ColourSplit {
             black |= u128::from(d && c < BLACK) << (u - a);
             seen += 1;
         }
-        let mut changed = false;
         let mut k = 0;
         while k < seen {
             let start = k + (dark >> k).trailing_zeros() as usize;
@@ -113,10 +112,8 @@ impl ColourSplit {
             if end - start >= MIN_RUN && ok {
                 let to = if end == seen { b - a } else { end };
                 labels[row + a + start..row + a + to].fill(OTHER);
-                changed = true;
             }
             k = end;
         }
-        changed
     }
 }
