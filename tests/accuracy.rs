@@ -414,14 +414,11 @@ fn black_stripe_where_such_a_shadow_would_fall_stays_other() {
     // 613.1..624.8 at 3 m: x = (u − cx)·3/fx = 1.544..1.605 m): the RGB camera sees it dark.
     let mut scene = Scene::rod_before_wall(0.575, 1.0, 0.01, 3.0);
     scene.objects.pop();
-    scene.push(
+    push_black_box(
+        &mut scene,
         "strip",
-        umbra::synth::Shape::Box {
-            centre: umbra::synth::V3::new(1.5745, 0.0, 2.99),
-            half: umbra::synth::V3::new(0.0305, 3.0, 0.005),
-            yaw: 0.0,
-        },
-        umbra::synth::Material::black(),
+        [1.5745, 0.0, 2.99],
+        [0.0305, 3.0, 0.005],
     );
     let (frame, _, out) = rod_off_the_right_border(&scene);
     let holes = (0..frame.raw.len())
@@ -490,14 +487,11 @@ fn gap_between_a_panel_and_a_rod_onto_a_wall_beyond_range_is_no_shadow() {
 fn black_box_at_the_left_border_behind_a_rod_at(x: f64, y: f64, z: f64) -> Scene {
     let mut scene = Scene::rod_before_wall(0.0, 1.0, 0.01, 3.0);
     scene.objects.pop();
-    scene.push(
+    push_black_box(
+        &mut scene,
         "box",
-        umbra::synth::Shape::Box {
-            centre: umbra::synth::V3::new(-0.925, 0.7527, 2.05),
-            half: umbra::synth::V3::new(0.575, 0.7473, 0.05),
-            yaw: 0.0,
-        },
-        umbra::synth::Material::black(),
+        [-0.925, 0.7527, 2.05],
+        [0.575, 0.7473, 0.05],
     );
     scene.push(
         "rod",
@@ -599,14 +593,11 @@ fn thin_black_rod_whose_shadow_falls_on_a_black_poster_keeps_its_alignment_strip
     // Measured: alignment F1 0.921 (precision 1.000), 0 before narrow holes were read.
     let mut scene = Scene::rod_before_wall(0.1, 1.2, 0.015, 3.0);
     scene.objects[1].material = umbra::synth::Material::black();
-    scene.push(
+    push_black_box(
+        &mut scene,
         "poster",
-        umbra::synth::Shape::Box {
-            centre: umbra::synth::V3::new(0.113, 0.0, 2.995),
-            half: umbra::synth::V3::new(0.067, 3.0, 0.004),
-            yaw: 0.0,
-        },
-        umbra::synth::Material::black(),
+        [0.113, 0.0, 2.995],
+        [0.067, 3.0, 0.004],
     );
     let (depth_only, with_rgb) = with_and_without_colour(&scene, 40..43, true, |frame| {
         let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
@@ -641,14 +632,11 @@ fn black_poster_inside_a_box_shadow_is_other_where_the_rgb_camera_sees_it() {
     // Measured: attached precision 0.830 → 0.988 with the RGB image (recall 1.000 → 0.970), F1
     // 0.907 → 0.979.
     let mut scene = Scene::box_before_wall(1.0, 3.0);
-    scene.push(
+    push_black_box(
+        &mut scene,
         "poster",
-        umbra::synth::Shape::Box {
-            centre: umbra::synth::V3::new(-0.68, 0.0, 2.995),
-            half: umbra::synth::V3::new(0.02, 0.5, 0.004),
-            yaw: 0.0,
-        },
-        umbra::synth::Material::black(),
+        [-0.68, 0.0, 2.995],
+        [0.02, 0.5, 0.004],
     );
     let (depth_only, with_rgb) = with_and_without_colour(&scene, 50..53, false, |frame| {
         let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
@@ -669,6 +657,20 @@ fn black_poster_inside_a_box_shadow_is_other_where_the_rgb_camera_sees_it() {
         Some(ATTACHED),
         0.95,
         "attached around a black poster",
+    );
+}
+
+/// Pushes onto `scene` an upright black box (a poster, a panel, a strip) named `name`, centred
+/// at `centre` with half extents `half` (metres).
+fn push_black_box(scene: &mut Scene, name: &'static str, centre: [f64; 3], half: [f64; 3]) {
+    scene.push(
+        name,
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::from(centre),
+            half: umbra::synth::V3::from(half),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::black(),
     );
 }
 
@@ -1002,15 +1004,7 @@ fn slanted_glossy_cylinder_gets_its_alignment_strip_from_its_right_edge() {
     let mut scene = Scene::rod_before_wall(0.0, 1.5, 0.12, 3.0);
     tilt_rod(&mut scene, 25.0);
     scene.objects[1].material = umbra::synth::Material::glossy([0.6, 0.3, 0.25]);
-    scene.push(
-        "poster",
-        umbra::synth::Shape::Box {
-            centre: nalgebra::Vector3::new(-0.8, 0.0, 2.95),
-            half: nalgebra::Vector3::new(0.5, 2.0, 0.02),
-            yaw: 0.0,
-        },
-        umbra::synth::Material::black(),
-    );
+    push_black_box(&mut scene, "poster", [-0.8, 0.0, 2.95], [0.5, 2.0, 0.02]);
     let c = kinect_confusion(&scene, &calib, 70, true);
     at_least(
         &c,
@@ -1272,15 +1266,7 @@ fn narrow_black_box_before_a_wall_lit_unevenly_has_its_shadow_split_off() {
 /// within 2.5 px where split, in at least nine rows of ten.
 fn assert_black_box_split_as_by_hand(mut scene: Scene, half_width: f64) {
     let calib = Calibration::nyu_default();
-    scene.push(
-        "box",
-        umbra::synth::Shape::Box {
-            centre: umbra::synth::V3::new(0.0, 0.0, 1.1),
-            half: umbra::synth::V3::new(half_width, 0.25, 0.1),
-            yaw: 0.0,
-        },
-        umbra::synth::Material::black(),
-    );
+    push_black_box(&mut scene, "box", [0.0, 0.0, 1.1], [half_width, 0.25, 0.1]);
     let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 8);
     let out = classify_rgb(&calib, &frame);
     let w = calib.fb() * (1.0 - 1.0 / 3.0);
@@ -1430,15 +1416,7 @@ fn plain_panel_beside_a_darker_wall_beyond_range_casts_no_shadow_from_colour() {
         },
         umbra::synth::Material::matte(green),
     );
-    scene.push(
-        "box",
-        umbra::synth::Shape::Box {
-            centre: umbra::synth::V3::new(0.3, 0.0, 1.6),
-            half: umbra::synth::V3::new(0.2, 0.25, 0.1),
-            yaw: 0.0,
-        },
-        umbra::synth::Material::black(),
-    );
+    push_black_box(&mut scene, "box", [0.3, 0.0, 1.6], [0.2, 0.25, 0.1]);
     let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 8);
     let out = classify_rgb(&calib, &frame);
     let (mut box_rows, mut wrong) = (0, 0);
@@ -2067,15 +2045,7 @@ fn black_panel_across_the_right_border_and_the_whole_height_keeps_its_shadow() {
         umbra::synth::scene::wall(3.0),
         umbra::synth::Material::matte([0.8, 0.78, 0.7]),
     );
-    scene.push(
-        "panel",
-        umbra::synth::Shape::Box {
-            centre: umbra::synth::V3::new(0.8, 0.0, 1.05),
-            half: umbra::synth::V3::new(0.5, 3.0, 0.05),
-            yaw: 0.0,
-        },
-        umbra::synth::Material::black(),
-    );
+    push_black_box(&mut scene, "panel", [0.8, 0.0, 1.05], [0.5, 3.0, 0.05]);
     let (_, with_rgb) = with_and_without_colour(&scene, 90..93, false, |frame| {
         let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
         let shadow = row.iter().filter(|&&l| l == ATTACHED).count();
