@@ -2141,7 +2141,8 @@ fn classify_left_border(
     } else {
         down(h.start).max(down(h.end - 1))
     };
-    let bg = [from_above, from_below, background_right_of(p, raw, h.end)]
+    let beside = background_right_of(p, raw, h.end);
+    let bg = [from_above, from_below, beside.map(|(_, r)| r)]
         .into_iter()
         .flatten()
         .max();
@@ -2149,8 +2150,11 @@ fn classify_left_border(
     // Nothing ever measured above the hole's columns, and the row above an OTHER hole across
     // them: a region the sensor cannot measure (a wall beyond range) reaching down to Sb, not a
     // shadow on the surface found below. (A shadow running down from the frame's top row is
-    // labelled there, and its rows below follow it.)
+    // labelled there, and its rows below follow it.) A wide surface past the occluder whose
+    // columns were never measured above either says otherwise: the unmeasured region ends in
+    // this row on both sides of the occluder, as it does where a floor comes into range.
     let unmeasured_above = from_above.is_none()
+        && beside.is_none_or(|(u, _)| above[u] != NO_DEPTH)
         && prev_labels.len() >= h.end
         && prev_labels[h.start..h.end].iter().all(|&l| l == OTHER);
     let attached_w = bg
@@ -2186,35 +2190,70 @@ fn classify_left_border(
     }
 }
 
-/// The surface behind the occluder that starts at `start`: follow the occluder while it stays
-/// continuous (dropouts are stepped over) and return the raw value just past its right edge, if
-/// that is farther.
-fn background_right_of(p: &ScanParams, raw: &[u16], start: usize) -> Option<u16> {
-    const MAX_RUN: usize = 200;
+/// The surface behind the occluder that starts at `start`: follow the occluder along the row
+/// while it stays continuous (dropouts of up to [`MAX_DROPOUT`] are stepped over) and return the
+/// raw value just past its right edge, if that is farther and runs on as a wide surface (a wall
+/// or floor, which a left-border shadow falls on too, not a narrow object in front of it), with
+/// the column where it starts.
+fn background_right_of(p: &ScanParams, raw: &[u16], start: usize) -> Option<(usize, u16)> {
     let n = raw.len();
     let mut last = raw[start];
-    let mut u = start + 1;
-    while u < n && u < start + MAX_RUN {
+    let mut gap = 0;
+    for u in start + 1..n {
         let r = raw[u];
-        if r != NO_DEPTH {
-            let step = i32::from(r) - i32::from(last);
-            if step >= i32::from(p.edge_raw) {
-                // Falling edge: robust background from up to three pixels past it.
-                return raw[u..]
-                    .iter()
-                    .take(3)
-                    .take_while(|&&r| r != NO_DEPTH)
-                    .copied()
-                    .max();
+        if r == NO_DEPTH {
+            gap += 1;
+            if gap > MAX_DROPOUT {
+                return None; // a region with no depth, not a dropout: nothing behind in sight
             }
-            if step <= -i32::from(p.edge_raw) {
-                return None; // something nearer still: no background in sight
-            }
-            last = r;
+            continue;
         }
-        u += 1;
+        gap = 0;
+        let step = i32::from(r) - i32::from(last);
+        if step >= i32::from(p.edge_raw) {
+            if !wide_surface(p, &raw[u..]) {
+                return None;
+            }
+            // Falling edge: robust background from up to three pixels past it.
+            let bg = raw[u..].iter().take(3).take_while(|&&r| r != NO_DEPTH);
+            return bg.copied().max().map(|bg| (u, bg));
+        }
+        if step <= -i32::from(p.edge_raw) {
+            return None; // something nearer still: no background in sight
+        }
+        last = r;
     }
     None
+}
+
+/// Dropouts a surface walk steps over (pixels); a longer hole is a region of its own.
+const MAX_DROPOUT: usize = 6;
+
+/// Measured pixels a surface needs to count as the wide background of a row.
+const WIDE_SURFACE: usize = 64;
+
+/// True when `seg` starts with at least [`WIDE_SURFACE`] measured pixels of one surface.
+fn wide_surface(p: &ScanParams, seg: &[u16]) -> bool {
+    let mut last = seg[0];
+    let (mut seen, mut gap) = (0, 0);
+    for &r in seg {
+        if r == NO_DEPTH {
+            gap += 1;
+            if gap > MAX_DROPOUT {
+                return false;
+            }
+            continue;
+        }
+        if r.abs_diff(last) >= p.edge_raw {
+            return false;
+        }
+        (last, gap) = (r, 0);
+        seen += 1;
+        if seen >= WIDE_SURFACE {
+            return true;
+        }
+    }
+    false
 }
 
 #[cfg(test)]
@@ -3965,6 +4004,39 @@ mod tests {
         assert_rows(&labels, &[241, 400], 156..168, DETACHED);
         assert_rows(&labels, &[200, 239], 156..168, DETACHED);
         assert_rows(&labels, &[130, 200, 239], 0..140, OTHER);
+    }
+
+    #[test]
+    fn left_border_shadow_on_a_floor_seen_only_past_a_wide_occluder_is_attached() {
+        // A drum at 0.7 m over columns [20, 330) from row 100 down, in a room whose far wall is
+        // beyond range: above row 300 nothing past the drum is measured; from row 300 a floor
+        // nears from 3 m to 1.5 m at the bottom, the same depth across each row. The hole
+        // [0, 20) at the border is narrower than the drum's attached shadow on the floor,
+        // 43.67·(1/0.7 − 1/3) = 47.8 px at row 300 to 43.67·(1/0.7 − 1/1.5) = 33.3 px at the
+        // bottom: the floor is lit up to the shadow, which runs on past the border. Only the
+        // floor past the drum, 310 px right of the hole, tells it.
+        let (c, _) = params();
+        let floor = |v: usize| raw_at(&c, 3.0 - 1.5 * (v - 300) as f64 / 179.0);
+        let labels = wall_frame(|v, row| {
+            row.fill(if v < 300 { NO_DEPTH } else { floor(v) });
+            if v >= 100 {
+                row[..20].fill(NO_DEPTH);
+                row[20..330].fill(raw_at(&c, 0.7));
+            }
+        });
+        assert_rows(&labels, &[300, 301, 400, 479], 0..20, ATTACHED);
+        // Above the floor the shadow falls beyond range: OTHER (SPEC §1).
+        assert_rows(&labels, &[100, 200, 299], 0..20, OTHER);
+        // Past the drum only a 30 px box at 2 m, then the region beyond range: no floor in
+        // sight, so no background to measure the hole against.
+        let labels = wall_frame(|v, row| {
+            row.fill(NO_DEPTH);
+            if v >= 100 {
+                row[20..330].fill(raw_at(&c, 0.7));
+                row[330..360].fill(raw_at(&c, 2.0));
+            }
+        });
+        assert_rows(&labels, &[100, 300, 479], 0..20, OTHER);
     }
 
     #[test]
