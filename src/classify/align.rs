@@ -99,6 +99,10 @@ pub struct Warp {
     /// The colour steps' factor for the frame's camera noise, in 64ths
     /// ([`step_scale`](super::noise::step_scale)).
     noise_scale: u32,
+    /// Per RGB row, the first column any IR pixel landed in: the IR view's left edge there.
+    fov_start: Vec<u16>,
+    /// How wide [`super::unseen`] looks for alignment shadows.
+    reach: super::unseen::Reach,
 }
 
 /// The target pixel's centre lies left of the source pixel's footprint (it was rounded down).
@@ -148,6 +152,11 @@ impl Warp {
             edge_list: Vec::with_capacity(WIDTH),
             parity: (0..WIDTH).map(|u| ((u & 1) as u32) << LABEL_BITS).collect(),
             noise_scale: 64,
+            fov_start: vec![0; HEIGHT],
+            reach: super::unseen::Reach {
+                px_m: (calib.rgb.fx * t.x.abs()) as f32,
+                inv_near: 2.0,
+            },
         }
     }
 
@@ -287,12 +296,17 @@ impl Warp {
             let mut above = (v > 0).then(|| &mut done[row.start - WIDTH..]);
             let below = (v + 1 < HEIGHT).then(|| &below[..WIDTH]);
             fill_cracks_row(cur, above.as_deref(), below);
+            self.fov_start[v] = cur.iter().position(|&k| k != EMPTY).unwrap_or(WIDTH) as u16;
             unpack_row(cur, &mut rgb[row.clone()], &mut mm[row]);
             if let Some(above) = above.as_mut() {
                 above.fill(EMPTY);
             }
         }
         self.zbuf[PIXELS - WIDTH..].fill(EMPTY);
+        if let Some(colour) = colour {
+            let (fov, reach, scale) = (&self.fov_start, self.reach, self.noise_scale);
+            super::unseen::open_gaps(rgb, mm, colour, fov, reach, scale);
+        }
     }
 
     /// Projects every pixel of source row `v` into the RGB image: `n = R·ray(u) + t·iz`, target

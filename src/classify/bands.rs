@@ -44,7 +44,7 @@ pub fn bridge_detached(labels: &mut [u8]) {
     let mut up = [[i16::MIN; WORDS]; HEIGHT];
     let mut down = [[i16::MAX; WORDS]; HEIGHT];
     for v in 0..rows {
-        let words = mask(&labels[v * WIDTH..(v + 1) * WIDTH], DETACHED);
+        let words = row_mask(&labels[v * WIDTH..(v + 1) * WIDTH], DETACHED);
         for k in 0..WORDS {
             up[v][k] = if words[k] != 0 {
                 v as i16
@@ -76,7 +76,7 @@ pub fn bridge_detached(labels: &mut [u8]) {
         if !near(v, 0, WORDS - 1) {
             continue;
         }
-        let other = mask(&labels[v * WIDTH..(v + 1) * WIDTH], OTHER);
+        let other = row_mask(&labels[v * WIDTH..(v + 1) * WIDTH], OTHER);
         let mut u = 0;
         // Each run of OTHER pixels that is a whole hole (VALID, or the border, on both sides).
         while let Some(a) = next_set(&other, u) {
@@ -111,7 +111,7 @@ pub fn bridge_detached(labels: &mut [u8]) {
 }
 
 /// Bit `j` of word `k`: pixel `64·k + j` of `row` (a whole row) is `label`.
-fn mask(row: &[u8], label: u8) -> [u64; WORDS] {
+pub(super) fn row_mask(row: &[u8], label: u8) -> [u64; WORDS] {
     let mut words = [0u64; WORDS];
     for (word, chunk) in words.iter_mut().zip(row.chunks(64)) {
         *word = word_of(chunk, label);

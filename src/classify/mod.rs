@@ -10,6 +10,7 @@ pub mod depthless;
 mod holes;
 pub mod noise;
 pub mod scanline;
+mod unseen;
 
 use crate::calib::Calibration;
 use crate::labels::PIXELS;
