@@ -77,10 +77,12 @@ pub fn open_gaps(
             while starts != 0 {
                 let b = 64 * k + starts.trailing_zeros() as usize;
                 starts &= starts - 1;
-                // Room for a strip and the occluder's edge: a shorter run is speckle.
+                // Room for a strip and the occluder's edge (a shorter run is speckle), and a
+                // measured surface past it.
                 if b < fov + MIN_STRIP + 2
                     || b + BACKGROUND > WIDTH
                     || !labels[b - MIN_STRIP - 2..b].iter().all(|&l| hole(l))
+                    || !labels[b..b + BACKGROUND].iter().all(|&l| l == VALID)
                 {
                     continue;
                 }
@@ -91,8 +93,7 @@ pub fn open_gaps(
                     continue;
                 }
                 let bg = px(b);
-                let wide = (b + 1..b + BACKGROUND)
-                    .all(|u| labels[u] == VALID && hue_dist(px(u), bg) <= agree);
+                let wide = (b + 1..b + BACKGROUND).all(|u| hue_dist(px(u), bg) <= agree);
                 if !wide {
                     continue;
                 }
