@@ -1111,8 +1111,8 @@ fn sa_run(p: &ScanParams, raw: &[u16], h: Run, sa: Bound) -> usize {
         .count()
 }
 
-/// Widest object (pixels) [`behind_thin_sa`] takes for a thin one.
-const THIN_SA: usize = 24;
+/// Widest object (pixels) [`behind_thin_sa`] takes for a thin one: a rod of 4 cm at 0.65 m.
+const THIN_SA: usize = 36;
 
 /// How far the sensor's correlation window moves each end of a shadow beyond its geometric place
 /// (pixels; real frames: about 2.3 px in all, SPEC §1).
@@ -3773,6 +3773,26 @@ mod tests {
             row[226 + v % 3..241].fill(raw_at(&c, 0.9));
         });
         assert_rows(&labels, &[1, 100, 241, 478], 220..226, ATTACHED);
+    }
+
+    #[test]
+    fn drums_shadow_half_hidden_by_a_30_px_rod_is_attached() {
+        // A rod at 0.71 m over [400, 430) (3.7 cm) and a drum at 1.3 m from 448 on, both through
+        // every row, before a wall at 3 m. The rod's own shadow lies 43.67·(1/0.71 − 1/3) =
+        // 47.0 px left of it, at [353, 383), detached. The drum's, 43.67·(1/1.3 − 1/3) = 19.0 px,
+        // lies at [429, 448), behind the rod up to 430: the hole [430, 448) between the nearer
+        // rod and the farther drum is the drum's attached shadow on the wall seen left of the
+        // rod. A rod of 30 px counts as thin (it used to need 24 or fewer: an independent
+        // simulator's drum behind such a rod, complex IR attached F1 +0.008 on that suite).
+        let (c, _) = params();
+        let labels = wall_frame(|_, row| {
+            row[353..383].fill(NO_DEPTH);
+            row[400..430].fill(raw_at(&c, 0.71));
+            row[430..448].fill(NO_DEPTH);
+            row[448..600].fill(raw_at(&c, 1.3));
+        });
+        assert_rows(&labels, &[0, 1, 240, 479], 353..383, DETACHED);
+        assert_rows(&labels, &[0, 1, 240, 479], 430..448, ATTACHED);
     }
 
     #[test]
