@@ -2150,9 +2150,9 @@ fn classify_left_border(
     // Nothing ever measured above the hole's columns, and the row above an OTHER hole across
     // them: a region the sensor cannot measure (a wall beyond range) reaching down to Sb, not a
     // shadow on the surface found below. (A shadow running down from the frame's top row is
-    // labelled there, and its rows below follow it.) A wide surface past the occluder whose
-    // columns were never measured above either says otherwise: the unmeasured region ends in
-    // this row on both sides of the occluder, as it does where a floor comes into range.
+    // labelled there, and its rows below follow it.) A wide surface past the occluder, where
+    // nothing was ever measured above its first pixel either, says otherwise: the unmeasured
+    // region ends in this row on both sides of the occluder, as where a floor comes into range.
     let unmeasured_above = from_above.is_none()
         && beside.is_none_or(|(u, _)| above[u] != NO_DEPTH)
         && prev_labels.len() >= h.end

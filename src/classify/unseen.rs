@@ -25,7 +25,7 @@ const MIN_STRIP: usize = 2;
 /// Measured pixels of the background's colour right of the hole: a narrower stretch is most
 /// often a glossy object's own measured part, whose unmeasured part shares its colour.
 const BACKGROUND: usize = 6;
-/// Pixels over which the background right of a hole must not recede into it (mm of depth).
+/// Pixels over which the background right of a hole must not recede into it.
 const RECEDE_SPAN: usize = 6;
 
 /// Where the search may look in the RGB view.
