@@ -232,7 +232,7 @@ mod tests {
         let mut s = frame(200..260, |u| if u < 253 { BLACK } else { WALL });
         for v in 0..HEIGHT {
             for u in 260..WIDTH {
-                s.mm[v * WIDTH + u] = (4000 - 40 * (u - 260)).max(3000) as u16;
+                s.mm[v * WIDTH + u] = 4000usize.saturating_sub(40 * (u - 260)).max(3000) as u16;
             }
         }
         unchanged(s, 200..260);
