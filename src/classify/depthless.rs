@@ -36,6 +36,7 @@ use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
 mod behind_rod;
 mod dark;
+mod dropouts;
 mod offimage;
 mod pairs;
 mod unlike;
@@ -373,6 +374,10 @@ impl ColourSplit {
                         // whose face the RGB camera sees over the shadow at Sa's depth.
                         self.on_a_dark_surface(raw, rgb, labels, v, (a, b));
                     }
+                    u = mask.next_hole(b.max(u + 1));
+                    continue;
+                }
+                if self.dropout_pair(raw, rgb, labels, filled, v, (a, b)) {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
