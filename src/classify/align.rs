@@ -296,7 +296,9 @@ impl Warp {
             let mut above = (v > 0).then(|| &mut done[row.start - WIDTH..]);
             let below = (v + 1 < HEIGHT).then(|| &below[..WIDTH]);
             fill_cracks_row(cur, above.as_deref(), below);
-            self.fov_start[v] = cur.iter().position(|&k| k != EMPTY).unwrap_or(WIDTH) as u16;
+            if colour.is_some() {
+                self.fov_start[v] = cur.iter().position(|&k| k != EMPTY).unwrap_or(WIDTH) as u16;
+            }
             unpack_row(cur, &mut rgb[row.clone()], &mut mm[row]);
             if let Some(above) = above.as_mut() {
                 above.fill(EMPTY);
@@ -949,7 +951,7 @@ fn key_depth(key: u32) -> u32 {
 }
 
 /// The RGB8 pixel at index `i` of `colour`, as signed components for [`hue_dist`].
-fn colour_at(colour: &[u8], i: usize) -> [i32; 3] {
+pub(super) fn colour_at(colour: &[u8], i: usize) -> [i32; 3] {
     [
         colour[3 * i].into(),
         colour[3 * i + 1].into(),

@@ -6,6 +6,7 @@
 //! shadow, SPEC §1), stays OTHER with the rod. The colour image shows where the rod really
 //! ends: the background's colour reaches into the hole's right end, up to the rod's edge.
 
+use super::align::colour_at;
 use super::bands::row_mask;
 use super::depthless::hue_dist;
 use crate::labels::{ALIGNMENT, HEIGHT, OTHER, VALID, WIDTH};
@@ -64,10 +65,7 @@ pub fn open_gaps(
     for (v, &fov) in fov_start.iter().enumerate().take(HEIGHT) {
         let row = v * WIDTH;
         let labels = &mut labels[row..row + WIDTH];
-        let px = |u: usize| {
-            let i = 3 * (row + u);
-            [colour[i], colour[i + 1], colour[i + 2]].map(i32::from)
-        };
+        let px = |u: usize| colour_at(colour, row + u);
         let fov = usize::from(fov);
         let valid = row_mask(labels, VALID);
         for (k, &word) in valid.iter().enumerate() {
