@@ -1937,8 +1937,6 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
         .iter()
         .position(|&r| r != NO_DEPTH)
         .map_or(n, |k| start + k);
-    // Both holes lie on the same background: lit pixels of its depth on either side of each.
-    let background = |u: usize| p.on_background(raw[u], d_bg);
     // An occluder running off the right border shows only part of its width; a shadow running
     // off the left border, only part of its own.
     let at_border = end == n;
@@ -1951,11 +1949,28 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
     // of this project's suites, RGB any-shadow recall +0.013, +0.013 and +0.003; the other
     // fifteen within 0.0001).
     let nearer_left = nearer_left_of(p, raw, h, d_bg);
-    if !((at_left || nearer_left || background(h.start - 1))
-        && background(h.end)
-        && background(start - 1)
-        && (at_border || background(end)))
-    {
+    // Both holes lie on the same background: lit pixels of its depth on either side of each, or,
+    // on a slanted wall, all on the line the lit gap between them draws.
+    let level = |u: usize| p.on_background(raw[u], d_bg);
+    let on_one = |background: &dyn Fn(usize) -> bool| {
+        (at_left || nearer_left || background(h.start - 1))
+            && background(h.end)
+            && background(start - 1)
+            && (at_border || background(end))
+    };
+    // On a plane whose disparity grows by `slope` per column, a projector ray meeting the
+    // occluder at column x_o meets the plane at x_s = (x_o − const) / (1 − slope): the shadow is
+    // the occluder's image stretched by 1 / (1 − slope), plus the widening. The stripes of a
+    // glossy cylinder, which bends away from any line, seldom fit that (an independent
+    // simulator's simple scenes: detached F1 −0.045 without this check, −0.008 with it).
+    let (shadow_w, occluder_w) = ((h.end - h.start) as f32, (end - start) as f32);
+    let on_plane = |line: Line| {
+        let stretched = occluder_w / (1.0 - line.slope).max(0.5);
+        on_one(&|u| line.holds(p, raw, u, 2.0))
+            && (at_left || at_border || nearer_left || shadow_w <= stretched + WIDENING + 1.0)
+    };
+    let sides = on_one(&level) || gap_line(p, raw, h.end, start).is_some_and(on_plane);
+    if !sides {
         return None;
     }
     // At the border nothing closes the occluder's hole, so the lit gap must be the very surface
@@ -1969,7 +1984,6 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
     // sensor's dead band there (8 px or more in every row) would pair with any hole within reach,
     // so the lit gap must be no wider than the shadow (an occluder at least half as wide as its
     // shift, as a rod close to the wall).
-    let (shadow_w, occluder_w) = ((h.end - h.start) as f32, (end - start) as f32);
     if at_left {
         // The right edges give the shift; the whole shadow, the occluder shifted by it, must
         // reach past the border (within the widening of its right end), and what shows of it
@@ -2013,6 +2027,66 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
     };
     (d_bg + shift <= p.max_disp).then_some((shift, Run { start, end }))
 }
+
+/// A plane's disparity is affine in the image column, so a wall turned away from the camera (a
+/// side wall) draws a line along a row: a detached shadow and its depthless occluder 50 px apart
+/// on it lie at disparities 3 px apart, past [`ScanParams::on_background`]'s reach.
+struct Line {
+    /// Column and disparity (pixels) of one point on it.
+    at: f32,
+    disp: f32,
+    /// Disparity change per column.
+    slope: f32,
+    /// Columns it reaches: extrapolated no further than [`SLANT_REACH`] times the gap it was
+    /// drawn through.
+    reach: std::ops::Range<usize>,
+}
+
+impl Line {
+    /// Whether pixel `u` is measured and lies on the line within `steps` of `min_step`.
+    fn holds(&self, p: &ScanParams, raw: &[u16], u: usize, steps: f32) -> bool {
+        let expect = self.disp + self.slope * (u as f32 - self.at);
+        self.reach.contains(&u)
+            && raw.get(u).is_some_and(|&r| r != NO_DEPTH)
+            && (p.disp(raw[u]) - expect).abs() < steps * p.min_step
+    }
+}
+
+/// The line through the lit gap `[from, to)` between a shadow and its occluder, when the gap is
+/// one smooth surface at least [`MIN_SLANT_GAP`] wide: each measured pixel within a step of the
+/// line through its ends (three pixels averaged at each, against the sensor's noise).
+fn gap_line(p: &ScanParams, raw: &[u16], from: usize, to: usize) -> Option<Line> {
+    if to < from + MIN_SLANT_GAP {
+        return None;
+    }
+    let gap = &raw[from..to];
+    let mean = |part: &[u16]| {
+        let (sum, n) = part
+            .iter()
+            .filter(|&&r| r != NO_DEPTH)
+            .fold((0.0, 0.0), |(s, n), &r| (s + p.disp(r), n + 1.0));
+        (n > 0.0).then(|| sum / n)
+    };
+    let (a, b) = (mean(&gap[..3])?, mean(&gap[gap.len() - 3..])?);
+    let line = Line {
+        at: from as f32 + 1.0,
+        disp: a,
+        slope: (b - a) / (gap.len() - 3) as f32,
+        reach: from.saturating_sub(SLANT_REACH * gap.len())..to + SLANT_REACH * gap.len(),
+    };
+    let fits = gap.iter().enumerate().all(|(k, &r)| {
+        r == NO_DEPTH
+            || (p.disp(r) - (line.disp + line.slope * ((from + k) as f32 - line.at))).abs()
+                < p.min_step
+    });
+    fits.then_some(line)
+}
+
+/// Narrowest lit gap [`gap_line`] draws a line through: over fewer pixels the sensor's noise
+/// tilts it too much to extrapolate across a shadow.
+const MIN_SLANT_GAP: usize = 8;
+/// How many times the gap's width [`gap_line`]'s line is extrapolated at most, either side.
+const SLANT_REACH: usize = 3;
 
 /// Whether the pixel left of shadow `h` is a surface nearer than the background (disparity
 /// `d_bg`) rather than the background itself: one that may hide the shadow's left part. The one
@@ -2366,6 +2440,54 @@ mod tests {
         assert_placed_at(&c, &filled, 303, 1.0, 0.03);
         // The lit wall and the shadow stay at the wall's depth.
         assert_eq!(filled[275], raw_at(&c, 3.0));
+    }
+
+    #[test]
+    fn depthless_rods_shadow_on_a_slanted_side_wall_is_detached() {
+        // A side wall turned away from the camera: on a plane 1/z is affine in the column,
+        // 1/z(x) = 1/3 + β·(x − 400) over [300, 640) (4.6 m at 300, 2.2 m at 639), with f·b·β =
+        // 0.06 px of disparity per column; left of 300, a wall at 4.6 m. A black rod at 0.8 m
+        // over [460, 470). A projector ray meets the rod at x_o and the wall at x_s where
+        // x_s − f·b/z(x_s) = x_o − f·b/0.8, so x_s = (x_o − f·b·(1/0.8 − α)) / (1 − f·b·β) with
+        // α = 1/3 − 400·β; f·b = 43.70: the shadow is [421.2, 431.9), 10.6 px, 38 px left of
+        // the rod.
+        let (c, _) = params();
+        let fb = c.fb();
+        let beta = 0.06 / fb;
+        let alpha = 1.0 / 3.0 - 400.0 * beta;
+        let inv_z = |x: usize| alpha + beta * x.max(300) as f64;
+        let x_s = |x_o: f64| (x_o - fb * (1.0 / 0.8 - alpha)) / (1.0 - fb * beta);
+        let (from, to) = (x_s(460.0), x_s(470.0));
+        assert!((from - 421.2).abs() < 0.05 && (to - 431.9).abs() < 0.05);
+        let shadow = from.floor() as usize..to.ceil() as usize;
+        let mut row: Vec<u16> = (0..WIDTH).map(|x| raw_at(&c, 1.0 / inv_z(x))).collect();
+        row[shadow.clone()].fill(NO_DEPTH);
+        row[460..470].fill(NO_DEPTH);
+        // The wall's disparity at the shadow's left side and at the rod's right side lie 3 px
+        // apart: no single background depth holds both.
+        let (left, right) = (shadow.start - 1, 470);
+        assert!(fb * (inv_z(right) - inv_z(left)) > 2.9);
+        let (labels, filled) = run_with_neighbours(&row, &row, &row);
+        assert_run(&labels, shadow, DETACHED);
+        assert_run(&labels, 460..470, OTHER);
+        // Placed by the shift from the background at the shadow: 1/(1/z + 38/(f·b)) ≈ 0.81 m.
+        assert_placed_at(&c, &filled, 465, 0.8, 0.03);
+        // The same holes with the lit gap between them not one plane (a pipe along the wall,
+        // 1.8 px of disparity nearer over [440, 452), too little to be an occluder): no line
+        // runs through it, and the shadow's sides stay 3 px apart.
+        let mut bumped = row.clone();
+        for (x, r) in bumped.iter_mut().enumerate().take(452).skip(440) {
+            *r = raw_at(&c, 1.0 / (inv_z(x) + 1.8 / fb));
+        }
+        let (labels, _) = run_with_neighbours(&bumped, &bumped, &bumped);
+        assert!(labels[422..431].iter().all(|&l| l != DETACHED));
+        // A hole of 16 px there is wider than the rod's image stretched by the slant,
+        // 10/(1 − 0.06) = 10.6 px, and the widening: a curved glossy surface's stripe, not the
+        // shadow (on a level wall, holes up to the rod's width plus `attached_over_px` pair).
+        let mut wide = row.clone();
+        wide[416..432].fill(NO_DEPTH);
+        let (labels, _) = run_with_neighbours(&wide, &wide, &wide);
+        assert!(labels[416..432].iter().all(|&l| l != DETACHED));
     }
 
     #[test]
