@@ -47,6 +47,9 @@ mod unlike;
 /// +0.0003 on the others; at 6 also RGB alignment +0.009 on one and +0.002 on two) for +24,
 /// +46 or +80 µs on the real frame.
 const MIN_HOLE: usize = 10;
+/// Narrowest hole with one surface on both sides [`ColourSplit::agreed_right_edge`] reads (a
+/// thin glossy or black rod whose shadow is not paired with it).
+const MIN_ROD_HOLE: usize = 8;
 /// Raw units past the scanline's range test at which a split-off shadow leaves the range. At
 /// the scanline's own (0) a noise-free sensor (20 scenes) lost attached F1 (−0.0010): there the
 /// farthest value of a frame can be a wall well within range, whose slope then reaches it a
@@ -430,9 +433,13 @@ impl ColourSplit {
                     .flatten();
                 if split.is_none() {
                     // No shadow to split off, but an occluder's depth still places it in the RGB
-                    // view, with the alignment shadow right of it.
-                    if let Some(shift) =
-                        self.agreed_right_edge(raw, rgb, labels, v, (a, b), &mut prefix)
+                    // view, with the alignment shadow right of it. A rod narrower than MIN_HOLE
+                    // the scanline paired with its shadow is placed already, by a sharper reading.
+                    let placed = b < WIDTH
+                        && self.disp(filled[v * WIDTH + a]) > self.disp(raw[v * WIDTH + b]) + 1.0;
+                    if let Some(shift) = (b - a >= MIN_HOLE || !placed)
+                        .then(|| self.agreed_right_edge(raw, rgb, labels, v, (a, b), &mut prefix))
+                        .flatten()
                     {
                         let at = self.raw_at_disp(self.disp(raw[v * WIDTH + b]) + shift as f64);
                         filled[v * WIDTH + a..v * WIDTH + b].fill(at);
@@ -887,7 +894,9 @@ impl ColourSplit {
             .then(|| self.disp(cur[a - 1]) - self.disp(cur[b]));
         let hidden = step.is_some_and(|s| s > SAME_SURFACE);
         let closed = step.is_some_and(|s| s.abs() <= SAME_SURFACE);
-        let min_w = if hidden || closed {
+        let min_w = if closed {
+            MIN_ROD_HOLE
+        } else if hidden {
             MIN_HOLE
         } else {
             2 * MIN_HOLE
