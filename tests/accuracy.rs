@@ -645,6 +645,64 @@ fn black_rod_of_8_px_whose_shadow_falls_on_a_black_poster_keeps_its_alignment_st
 }
 
 #[test]
+fn box_shadow_beside_a_black_poster_is_attached_where_the_rgb_camera_sees_the_wall() {
+    // The box's attached shadow, columns 167.4..196.5 (29.1 px), rows ±146, as above. A black
+    // poster on the wall at x = −0.90..−0.73 m (columns 313.04 − 582.62·0.815/3 ± 582.62·0.085/3
+    // = 138.3..171.3), rows ±97, reaches into it: poster and shadow make one hole of 58 px, too
+    // wide for eq. (3), OTHER by depth alone. The RGB camera sees the wall over the shadow right
+    // of the poster, [171.3, 196.5), up to where the box hides it (its edge f_rgb·0.025·(1/1 −
+    // 1/3) = 8.6 px further left in the RGB image), and the black poster left of it.
+    // Measured: IR attached recall 0.378 → 0.946 (the shadow's rows outside the poster's and
+    // inside), precision 1.000 both, F1 0.549 → 0.972.
+    let (depth_only, with_rgb) = box_beside_poster(umbra::synth::Material::black());
+    let before = depth_only.class(ATTACHED).recall.unwrap_or(0.0);
+    let after = with_rgb.class(ATTACHED).recall.unwrap_or(0.0);
+    assert!(before < 0.5, "depth alone: attached recall {before:.3}");
+    assert!(after >= 0.9, "attached recall {before:.3} -> {after:.3}");
+    at_least(
+        &with_rgb,
+        Some(ATTACHED),
+        0.95,
+        "attached beside a black poster",
+    );
+    // A glossy poster of the wall's own colour: the RGB camera cannot tell where the shadow
+    // starts, and nothing of the poster may become attached.
+    let (depth_only, with_rgb) =
+        box_beside_poster(umbra::synth::Material::glossy([0.8, 0.78, 0.7]));
+    let (before, after) = (depth_only.class(ATTACHED), with_rgb.class(ATTACHED));
+    assert!(after.precision.unwrap() >= 0.99, "{after:?}");
+    assert!(
+        after.recall.unwrap() <= before.recall.unwrap() + 0.01,
+        "{before:?} -> {after:?}"
+    );
+}
+
+/// The box at 1 m before a wall at 3 m, and a poster of `material` on the wall at x = −0.90..
+/// −0.73 m that reaches into the box's attached shadow (seeds 60..63): IR-view confusions from
+/// depth alone and with the RGB image.
+fn box_beside_poster(material: umbra::synth::Material) -> (Confusion, Confusion) {
+    let mut scene = Scene::box_before_wall(1.0, 3.0);
+    scene.push(
+        "poster",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(-0.815, 0.0, 2.995),
+            half: umbra::synth::V3::new(0.085, 0.5, 0.004),
+            yaw: 0.0,
+        },
+        material,
+    );
+    with_and_without_colour(&scene, 60..63, false, |frame| {
+        let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
+        assert!(
+            row[140..170].iter().all(|&l| l == OTHER)
+                && row[173..196].iter().all(|&l| l == ATTACHED),
+            "poster then shadow: {:?}",
+            &row[130..200]
+        );
+    })
+}
+
+#[test]
 fn black_poster_inside_a_box_shadow_is_other_where_the_rgb_camera_sees_it() {
     // The box's left edge (x = −0.2 m at 1 m) at IR column 313.04 − 582.62·0.2 = 196.5, the wall
     // at 3 m: an attached shadow f·b·(1/1 − 1/3) = 29.1 px wide, columns 167.4..196.5, rows

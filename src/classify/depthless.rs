@@ -39,6 +39,7 @@ mod dark;
 mod dropouts;
 mod offimage;
 mod pairs;
+mod patch;
 mod unlike;
 
 /// Narrowest merged hole considered (pixels): a shadow and an occluder of 5 px each. Narrower
@@ -377,6 +378,10 @@ impl ColourSplit {
                         // whose face the RGB camera sees over the shadow at Sa's depth.
                         self.on_a_dark_surface(raw, rgb, labels, v, (a, b));
                     }
+                    u = mask.next_hole(b.max(u + 1));
+                    continue;
+                }
+                if self.shadow_beside_patch(raw, rgb, labels, v, (a, b)) {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
