@@ -73,7 +73,7 @@ impl ColourSplit {
         if (u as f64) < first {
             return false;
         }
-        // Leftwards while the wall shows, then two pixels plainly of another colour.
+        // Leftwards from there while the wall shows (two pixels at least).
         let far = |x: usize| {
             self.probe(rgb, x, v, sa)
                 .map_or(u32::MAX, |c| hue_dist(c, wall))
@@ -111,8 +111,7 @@ impl ColourSplit {
     /// edge, whatever its depth there: a box's side seen at a slant starts at another depth in
     /// each row) whose left side is Sa's surface (raw `sa`).
     fn shadow_past_patch(&self, raw: &[u16], labels: &[u8], v: usize, b: usize, sa: u16) -> bool {
-        let same =
-            |r: u16, s: u16| r != NO_DEPTH && (self.disp(r) - self.disp(s)).abs() < SAME_SURFACE;
+        let on_sa = |r: u16| r != NO_DEPTH && (self.disp(r) - self.disp(sa)).abs() < SAME_SURFACE;
         // Sb's edge may slant, up to half a pixel a row and MAX_SLANT pixels in all.
         let plain = |w: usize, d: usize| {
             let (r, l) = (
@@ -128,7 +127,7 @@ impl ColourSplit {
                     .iter()
                     .rposition(|&x| x != NO_DEPTH)
                     .map_or(0, |k| k + 1);
-                start > 0 && same(r[start - 1], sa) && l[start..e].iter().all(|&x| x == ATTACHED)
+                start > 0 && on_sa(r[start - 1]) && l[start..e].iter().all(|&x| x == ATTACHED)
             })
         };
         (1..=CLEAR_ROWS).any(|d| (d <= v && plain(v - d, d)) || (v + d < HEIGHT && plain(v + d, d)))
