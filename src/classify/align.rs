@@ -49,6 +49,9 @@ const _: () = assert!(
     GAP > (1 << ASTRAY_BIT) | ((MAX_DEPTH_MM as u32) << (LABEL_BITS + TIE_BITS)) | 0xffff
         && (MAX_DEPTH_MM as u32) <= DEPTH_MASK
 );
+/// Source columns from the IR camera's left border within which a gap's far end may be seen
+/// past it (wider than any alignment strip).
+const FOV_REACH: usize = 96;
 /// Target index of a source pixel that lands outside the RGB image: a spare z-buffer slot.
 const OUTSIDE: u32 = PIXELS as u32;
 
@@ -605,6 +608,12 @@ impl Warp {
                     c1 = e1;
                 }
             }
+        }
+        // Behind a near object at the IR camera's left border, the RGB camera sees far points
+        // left of the IR camera's first column: outside its view, OTHER (SPEC §2), no alignment.
+        if u < FOV_REACH {
+            let fov = self.target_x(v, 0, filled[u + 1]) - self.half_px;
+            c0 = c0.max(span(fov, fov, WIDTH).0).min(c1);
         }
         for i in base + c0..base + c1 {
             if self.zbuf[i] == EMPTY {
@@ -1364,6 +1373,45 @@ mod tests {
             }
         }
         assert!(wrong.is_empty(), "{wrong:?}");
+    }
+
+    #[test]
+    fn past_a_near_object_at_the_left_border_the_strip_ends_at_the_ir_view() {
+        // A post at 1 m over IR columns 0..3 before a wall at 3 m. Right of the post the RGB
+        // camera sees wall the IR camera cannot: the pixels whose centres lie between the post's
+        // right edge (column 2.5 at 1 m) and the wall's first lit column's left edge (2.5 at
+        // 3 m). Of those, the ones left of where the IR image's own left edge (−0.5 at 3 m)
+        // lands see wall outside the IR camera's view: OTHER; the rest the post hides from it:
+        // alignment. With the NYU defaults: 36.05, 42.01 and 44.69, so RGB columns 37–42 are
+        // OTHER and 43–44 alignment.
+        let c = Calibration::nyu_default();
+        let (wall, post) = (raw_at(&c, 3.0), raw_at(&c, 1.0));
+        let mut raw = vec![wall; PIXELS];
+        for v in 150..350 {
+            raw[v * WIDTH..v * WIDTH + 3].fill(post);
+        }
+        let mut out = Classified::default();
+        Classifier::new(&c).classify(&raw, &mut out);
+        let (post_edge, y) = rgb_xy(&c, 2.5, 250.0, post);
+        let (fov_edge, _) = rgb_xy(&c, -0.5, 250.0, wall);
+        let (wall_edge, _) = rgb_xy(&c, 2.5, 250.0, wall);
+        assert!(
+            post_edge + 5.0 < fov_edge && fov_edge + 2.0 < wall_edge,
+            "{post_edge:.2} {fov_edge:.2} {wall_edge:.2}"
+        );
+        let row = &out.rgb_labels[y.round() as usize * WIDTH..][..WIDTH];
+        let want = |x: usize| {
+            let x = x as f64;
+            if x > post_edge && x < fov_edge {
+                OTHER
+            } else {
+                ALIGNMENT
+            }
+        };
+        let gap = post_edge.ceil() as usize..wall_edge.ceil() as usize;
+        let got: Vec<u8> = row[gap.clone()].to_vec();
+        let wanted: Vec<u8> = gap.clone().map(want).collect();
+        assert_eq!(got, wanted, "RGB columns {gap:?}: post edge {post_edge:.2}, IR view's edge {fov_edge:.2}, wall {wall_edge:.2}");
     }
 
     #[test]
