@@ -111,7 +111,8 @@ fn bench(c: &mut Criterion) {
                 classifier.classify_with_rgb(black_box(f), c, &mut out)
             })
         });
-        let scan = umbra::classify::scanline::ScanParams::new(cal, &Default::default());
+        let params = umbra::classify::Params::default();
+        let scan = umbra::classify::scanline::ScanParams::new(cal, &params);
         let mut filled = vec![0u16; PIXELS];
         g.bench_function(format!("stage_scanline_ir/{name}"), |b| {
             b.iter(|| {
@@ -128,7 +129,8 @@ fn bench(c: &mut Criterion) {
         let (mut labels, mut fill) = (vec![0u8; PIXELS], vec![0u16; PIXELS]);
         let facts = umbra::classify::scanline::classify_frame(&scan, frame, &mut labels, &mut fill);
         if let Some(rgb) = rgb {
-            let mut split = umbra::classify::depthless::ColourSplit::new(cal);
+            let mut split =
+                umbra::classify::depthless::ColourSplit::new(cal, params.attached_over_px);
             g.bench_function(format!("stage_colour_split/{name}"), |b| {
                 b.iter_batched_ref(
                     || (labels.clone(), fill.clone()),

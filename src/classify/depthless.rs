@@ -154,6 +154,9 @@ pub struct ColourSplit {
     /// How many pixels the sensor's widening adds to a shadow's left end in the current frame
     /// ([`FrameFacts::left_widening`]).
     widen: f64,
+    /// How much wider than eq. (3) an attached shadow may look (pixels): the scanline's
+    /// `attached_over_px`.
+    over: f64,
     /// The colour steps' factor for the current frame's camera noise, in 64ths
     /// ([`step_scale`](super::noise::step_scale)).
     noise_scale: u32,
@@ -220,8 +223,8 @@ struct Candidate {
 }
 
 impl ColourSplit {
-    /// Constants for `calib`.
-    pub fn new(calib: &Calibration) -> Self {
+    /// Constants for `calib`, and the scanline's `attached_over_px` (`over`).
+    pub fn new(calib: &Calibration, over: f64) -> Self {
         let d = calib.depth;
         let r = calib.depth_to_rgb.rotation;
         let rot = |x: f64, y: f64, z: f64| {
@@ -248,6 +251,7 @@ impl ColourSplit {
                 ..Prefix::default()
             },
             widen: 0.0,
+            over,
             noise_scale: 64,
         }
     }
@@ -440,9 +444,12 @@ impl ColourSplit {
                     // No shadow to split off, but an occluder's depth still places it in the RGB
                     // view, with the alignment shadow right of it. A rod narrower than MIN_HOLE
                     // the scanline paired with its shadow is placed already, by a sharper reading.
-                    let placed = b < WIDTH
-                        && self.disp(filled[v * WIDTH + a]) > self.disp(raw[v * WIDTH + b]) + 1.0;
-                    if let Some(shift) = (b - a >= MIN_HOLE || !placed)
+                    let placed = || {
+                        b < WIDTH
+                            && self.disp(filled[v * WIDTH + a])
+                                > self.disp(raw[v * WIDTH + b]) + 1.0
+                    };
+                    if let Some(shift) = (b - a >= MIN_HOLE || !placed())
                         .then(|| self.agreed_right_edge(raw, rgb, labels, v, (a, b), &mut prefix))
                         .flatten()
                     {

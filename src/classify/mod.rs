@@ -81,7 +81,7 @@ impl Classifier {
     pub fn with_params(calib: &Calibration, params: Params) -> Self {
         Classifier {
             scan: scanline::ScanParams::new(calib, &params),
-            colour: depthless::ColourSplit::new(calib),
+            colour: depthless::ColourSplit::new(calib, params.attached_over_px),
             warp: align::Warp::new(calib),
             filled: vec![0; PIXELS],
         }

@@ -16,8 +16,6 @@ use crate::labels::{ATTACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
 /// Narrowest shadow (eq. 3, pixels) looked for.
 const MIN_SHADOW: f64 = 3.0;
-/// How much wider than eq. (3) the shadow may be (pixels): the scanline's `attached_over_px`.
-const OVER: f64 = 8.0;
 /// Colour distance ([`hue_dist`], dimmed) within which a pixel shows Sa's surface.
 const WALL: u32 = COLOUR_STEP / 2;
 /// RGB columns left of where the RGB camera sees Sb's edge that are not read (its blend).
@@ -56,7 +54,7 @@ impl ColourSplit {
         }
         // Eq. (3): Sb's shadow on Sa's surface; the hole is wider than it may look.
         let w = self.disp(sb) - self.disp(sa);
-        if w < MIN_SHADOW || ((b - a) as f64) <= w + OVER {
+        if w < MIN_SHADOW || ((b - a) as f64) <= w + self.over {
             return false;
         }
         let Some(wall) = self.mean_colour(rgb, v, a - SIDE..a, sa) else {
@@ -95,7 +93,7 @@ impl ColourSplit {
             return false;
         }
         // The widening moves the shadow's left end further left, never right.
-        if (c as f64) < first - OVER - self.widen {
+        if (c as f64) < first - self.over - self.widen {
             return false;
         }
         // A wall beyond range seen past Sa's edge may show Sa's colour too: the same shadow must
