@@ -5,7 +5,10 @@
 //! - IR view: a pixel with depth is VALID. A pixel whose surface is measurable (albedo, range,
 //!   not specular) but not lit by the projector is a projector shadow: ATTACHED if the first pixel
 //!   to its right that is not in geometric shadow shows the occluder (the first object on the
-//!   projector→surface segment), else DETACHED (also when the shadow runs off the right border).
+//!   projector→surface segment), else DETACHED. A shadow that runs off the right border is
+//!   followed past it, on rays of columns beyond the image, to its first lit pixel: ATTACHED
+//!   when that shows the occluder (SPEC §1: the hole touches its occluder, which the border
+//!   hides), DETACHED when lit background comes first.
 //!   Every other hole is OTHER, including unlit surfaces that would be holes even if lit.
 //! - RGB view: the nearest surface along the RGB pixel's ray, projected into the IR image. Outside
 //!   the IR image or no surface: OTHER. Hidden from the IR camera: ALIGNMENT if the surface is
@@ -92,7 +95,14 @@ pub struct IrGeometry {
     pub occluder: Vec<u32>,
     /// Would the surface yield depth if lit (albedo, range, not specular)?
     pub measurable: Vec<bool>,
+    /// Per row whose last pixel is in shadow: the object seen at the first lit column past the
+    /// right border (`u32::MAX` for none within [`BEYOND`] columns), where that shadow ends.
+    pub beyond: Vec<u32>,
 }
+
+/// Columns past the right border a shadow is followed (the widest shadow, of an occluder at the
+/// sensor's nearest range, is under 120 px).
+const BEYOND: usize = 256;
 
 impl IrGeometry {
     /// True if pixel `i` sees a surface the projector does not light.
@@ -115,23 +125,36 @@ pub fn trace_ir(scene: &Scene, calib: &Calibration, sensor: &SensorModel) -> IrG
         z: vec![f64::INFINITY; PIXELS],
         occluder: vec![NONE; PIXELS],
         measurable: vec![false; PIXELS],
+        beyond: vec![NONE; HEIGHT],
+    };
+    // What pixel (u, v) sees (object, depth), and what shades it from the projector.
+    let cast = |u: usize, v: usize| {
+        let d = pixel_ray(&calib.depth, u, v);
+        let (obj, hit) = tracer.nearest(&V3::zeros(), &d, 0.0, f64::INFINITY)?;
+        let p = d * hit.t; // d.z = 1, so t is the depth
+        let occ = tracer.nearest(&projector, &(p - projector), 0.0, 1.0 - SEG_EPS);
+        Some((obj, hit.t, occ.map(|(o, _)| o)))
     };
     for v in 0..HEIGHT {
         for u in 0..WIDTH {
             let i = v * WIDTH + u;
-            let d = pixel_ray(&calib.depth, u, v);
-            let Some((obj, hit)) = tracer.nearest(&V3::zeros(), &d, 0.0, f64::INFINITY) else {
+            let Some((obj, z, occ)) = cast(u, v) else {
                 continue;
             };
-            let p = d * hit.t; // d.z = 1, so t is the depth
             let m: &Material = &scene.objects[obj].material;
             g.object[i] = obj as u32;
-            g.z[i] = hit.t;
-            g.measurable[i] = sensor.measurable(hit.t, m.albedo, m.specular);
-            if let Some((occ, _)) = tracer.nearest(&projector, &(p - projector), 0.0, 1.0 - SEG_EPS)
-            {
-                g.occluder[i] = occ as u32;
-            }
+            g.z[i] = z;
+            g.measurable[i] = sensor.measurable(z, m.albedo, m.specular);
+            g.occluder[i] = occ.map_or(NONE, |o| o as u32);
+        }
+        if g.in_shadow(v * WIDTH + WIDTH - 1) {
+            g.beyond[v] = (WIDTH..WIDTH + BEYOND)
+                .find_map(|u| match cast(u, v) {
+                    Some((_, _, Some(_))) => None,
+                    Some((obj, _, None)) => Some(obj as u32),
+                    None => Some(NONE),
+                })
+                .unwrap_or(NONE);
         }
     }
     g
@@ -141,8 +164,9 @@ pub fn trace_ir(scene: &Scene, calib: &Calibration, sensor: &SensorModel) -> IrG
 pub fn ir_labels(g: &IrGeometry) -> Vec<u8> {
     let mut labels = vec![OTHER; PIXELS];
     for v in 0..HEIGHT {
-        // Right-to-left, remembering what the nearest non-shadow pixel to the right shows.
-        let mut right_obj = NONE;
+        // Right-to-left, remembering what the nearest non-shadow pixel to the right shows
+        // (past the border, for a shadow that runs off it).
+        let mut right_obj = g.beyond[v];
         for u in (0..WIDTH).rev() {
             let i = v * WIDTH + u;
             if g.in_shadow(i) {

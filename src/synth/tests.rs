@@ -142,6 +142,44 @@ fn thin_rod_casts_a_detached_shadow_where_predicted() {
 }
 
 #[test]
+fn shadows_running_off_the_right_border_are_labelled_by_what_lies_past_it() {
+    // Rods 1 m away past the border (their left sides at column cx + fx·(x0 − r) ≥ 640),
+    // before a wall at 3 m, cast their shadows about f·b·(1/z_f − 1/z_b) = 29 px to the left,
+    // into the image. A thin one (2r = 2 cm < 5 cm, its side at column 662) leaves lit wall
+    // between shadow and rod: detached, though that gap lies past the border; a thick one
+    // (8 cm, its side at column 645) none: attached.
+    let c = Calibration::nyu_default();
+    let (fx, cx, b) = (c.depth.fx, c.depth.cx, c.raw.baseline_m);
+    let (zf, zb) = (1.0, 3.0);
+    for (r, side, code) in [(0.01, 662.0, DETACHED), (0.04, 645.0, ATTACHED)] {
+        let x0 = (side - cx) / fx + r;
+        let f = render_frame(
+            &Scene::rod_before_wall(x0, zf, r, zb),
+            &c,
+            &SensorModel::ideal(),
+            0,
+        );
+        // The projector ray tangent to the rod's left side: turned from the ray through its
+        // axis by asin(r / distance); it meets the wall at x = b + z_b·tan θ.
+        let (dx, dz) = (x0 - b, zf);
+        let theta = dx.atan2(dz) - (r / dx.hypot(dz)).asin();
+        let s0 = fx * (b + zb * theta.tan()) / zb + cx;
+        assert!(s0 < 636.0, "the shadow starts at {s0:.1}");
+        for v in (0..480).step_by(13) {
+            let l = row(&f.ir_labels, v);
+            let shadow = cols(l, code);
+            assert!(
+                !shadow.is_empty()
+                    && (shadow[0] as f64 - s0).abs() <= 1.0
+                    && *shadow.last().unwrap() == WIDTH - 1,
+                "r {r}, row {v}: {shadow:?} from {s0:.1}"
+            );
+            assert_eq!(shadow.len() + cols(l, VALID).len(), WIDTH, "r {r}, row {v}");
+        }
+    }
+}
+
+#[test]
 fn rgb_view_has_alignment_strip_right_of_box() {
     let c = Calibration::nyu_default();
     let (zf, zb) = (1.0, 3.0);
