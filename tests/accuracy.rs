@@ -408,6 +408,165 @@ fn slanted_detached_shadow_of_a_rod_beyond_the_right_border_is_told_by_colour() 
     );
 }
 
+/// A matte blue panel 1 cm thick, its front face 1 m away, from x = `x_edge` to 1 m past it and
+/// 0.6 m tall (rows 65 to 415 or so), before a wall at 3 m. (Were it as tall as the view, its
+/// shadow would end every row in a hole as a real sensor's dead band does, and be left alone.)
+fn panel_beyond_the_right_border(x_edge: f64) -> Scene {
+    let mut scene = Scene::new("panel beyond the right border");
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(3.0),
+        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
+    );
+    scene.push(
+        "panel",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(x_edge + 0.5, 0.0, 1.005),
+            half: umbra::synth::V3::new(0.5, 0.3, 0.005),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::matte([0.2, 0.35, 0.8]),
+    );
+    scene
+}
+
+#[test]
+fn attached_shadow_of_a_panel_beyond_the_right_border_is_told_by_colour() {
+    // The panel's left face, at x = 0.58 m, 1.00 to 1.01 m away, lies at columns cx + fx·0.58/z,
+    // past the IR image's border; the projector sees it too, so the shadow on the wall at 3 m
+    // is cast by its far edge, f·b·(1/1.01 − 1/3) px wide, ending where the camera sees that
+    // edge: it starts inside the image and runs into the border, with nothing for eq. (3) on
+    // its right. The RGB camera, a third of the way to the projector, sees the panel's edge a
+    // third of that width left of where the shadow ends, over the wall: inside its image.
+    let calib = Calibration::nyu_default();
+    let edge = calib.depth.cx + calib.depth.fx * 0.58 / 1.01;
+    let start = edge - calib.fb() * (1.0 / 1.01 - 1.0 / 3.0);
+    assert!(
+        edge > WIDTH as f64 && start < WIDTH as f64 - 10.0,
+        "{start}..{edge}"
+    );
+    let scene = panel_beyond_the_right_border(0.58);
+    // The simulator agrees (no widening on the ideal sensor).
+    let ideal = render_frame(&scene, &calib, &SensorModel::ideal(), 40);
+    for v in (100..HEIGHT - 100).step_by(40) {
+        let row = &ideal.ir_labels[v * WIDTH..(v + 1) * WIDTH];
+        let cols: Vec<usize> = (0..WIDTH).filter(|&u| row[u] == ATTACHED).collect();
+        assert!(
+            cols.len() > 10
+                && cols.last() == Some(&(WIDTH - 1))
+                && (cols[0] as f64 - start).abs() <= 1.0,
+            "row {v}: the scene's shadow {cols:?}, by hand from {start:.1}"
+        );
+    }
+    let (depth_only, with_rgb) = with_and_without_colour(&scene, 40..42, false, |_| {});
+    let alone = depth_only.class(ATTACHED);
+    assert!(
+        alone.recall.unwrap_or(0.0) < 0.05,
+        "depth alone has no occluder: {alone:?}"
+    );
+    at_least(
+        &with_rgb,
+        Some(ATTACHED),
+        0.95,
+        "IR attached of a panel beyond the right border",
+    );
+}
+
+#[test]
+fn with_a_dead_band_along_the_right_border_such_a_hole_is_not_claimed() {
+    // A real sensor returns no depth in its last 8 columns, in every row (the NYU frame): a
+    // hole running into that band is as often the band widened as a shadow, and the colour
+    // cannot tell them apart. The same panel, with such a band cut into the frame: no shadow
+    // is claimed at the border.
+    let calib = Calibration::nyu_default();
+    let mut frame = render_frame(
+        &panel_beyond_the_right_border(0.58),
+        &calib,
+        &SensorModel::kinect(),
+        40,
+    );
+    for row in frame.raw.chunks_exact_mut(WIDTH) {
+        row[WIDTH - 8..].fill(umbra::labels::NO_DEPTH);
+    }
+    let out = classify_rgb(&calib, &frame);
+    let claimed = (0..PIXELS)
+        .filter(|&i| i % WIDTH >= 560 && out.ir_labels[i] == ATTACHED)
+        .count();
+    assert_eq!(claimed, 0, "attached pixels at the border");
+}
+
+/// A wall turned 12° away, z = `z0` + x·tan 12°, with a red poster on it from x = `poster_x`
+/// (0.5 m wide, standing off it by at most 8 cm, so as far as the wall) and a board across the
+/// top of the view, for the Kinect model, which measures to 4.5 m.
+fn turned_wall_with_a_poster(z0: f64, poster_x: f64) -> Scene {
+    let tilt = 12f64.to_radians();
+    let mut scene = Scene::new("wall turned away, leaving the range");
+    scene.push(
+        "wall",
+        umbra::synth::Shape::Plane {
+            normal: umbra::synth::V3::new(tilt.sin(), 0.0, -tilt.cos()),
+            offset: -z0 * tilt.cos(),
+        },
+        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
+    );
+    let z = z0 + (poster_x + 0.25) * tilt.tan();
+    scene.push(
+        "poster",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(poster_x + 0.25, 0.0, z - 0.05),
+            half: umbra::synth::V3::new(0.25, 3.0, 0.04),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::matte([0.8, 0.15, 0.1]),
+    );
+    // A board 2 m away across the top sixth of the view: rows without a hole at the border, so
+    // the frame is not taken for a real sensor's with its dead band.
+    scene.push(
+        "board",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(0.0, -1.0, 2.0),
+            half: umbra::synth::V3::new(4.0, 0.4, 0.02),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::matte([0.5, 0.5, 0.55]),
+    );
+    scene
+}
+
+#[test]
+fn hole_where_a_turned_wall_leaves_the_range_stays_other() {
+    // The wall reaches the sensor's 4.5 m where (u − cx)/fx = (1 − z0/4.5)/tan 12°: column 557
+    // or so for z0 = 4.1 m (an 83 px hole to the border, which the colour split reads), 600
+    // for z0 = 4.03 m (40 px, which the off-image test reads). Over the hole the RGB camera
+    // sees the wall, then the poster, at x = 2.35 m (column 615) and 2.48 m (column 630), where
+    // an occluder beyond the border, or in the hole, would stand. But the wall beside the hole
+    // is the frame's farthest and recedes: the hole lies beyond the range, OTHER (SPEC §1).
+    let calib = Calibration::nyu_default();
+    for (z0, poster_x) in [(4.1, 2.35), (4.03, 2.48)] {
+        let scene = turned_wall_with_a_poster(z0, poster_x);
+        let cut = calib.depth.cx + calib.depth.fx * (1.0 - z0 / 4.5) / 12f64.to_radians().tan();
+        for seed in 50..52 {
+            let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+            let out = classify_rgb(&calib, &frame);
+            let beyond = (0..PIXELS)
+                .filter(|&i| i % WIDTH > cut as usize + 5)
+                .filter(|&i| frame.ir_labels[i] == OTHER)
+                .count();
+            assert!(
+                beyond > 10_000,
+                "the scene's hole past column {cut:.0}: {beyond} px"
+            );
+            let claimed = (0..PIXELS)
+                .filter(|&i| out.ir_labels[i] == ATTACHED)
+                .count();
+            assert_eq!(
+                claimed, 0,
+                "z0 {z0}, seed {seed}: attached pixels on a wall leaving the range"
+            );
+        }
+    }
+}
+
 #[test]
 fn black_stripe_where_such_a_shadow_would_fall_stays_other() {
     // The same hole, made by a black strip on the wall instead (13 mm proud of it, columns

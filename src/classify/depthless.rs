@@ -118,6 +118,9 @@ const GAP_ROWS: usize = 3;
 const GAP_CONFIRM_ROWS: usize = 3 * GAP_ROWS;
 /// Pixels either side of the split searched for that lit gap.
 const GAP_NEAR: usize = 3;
+/// Narrowest dead band (pixels) along the right border that marks a real sensor's frame: the
+/// NYU frame's is 8 px in every row.
+const DEAD_BAND: usize = 8;
 /// Narrowest open hole at the right border considered (pixels), wider than the sensor's dead band.
 const MIN_BORDER_HOLE: usize = 48;
 /// RGB columns of occluder scored at least after the shadow of a hole that is not closed by
@@ -344,6 +347,14 @@ impl ColourSplit {
         }
         self.widen = facts.left_widening;
         self.noise_scale = super::noise::step_scale(super::noise::rgb_noise(rgb));
+        // A real sensor's dead band along the right border (8 px or more in every row) would
+        // read as an occluder's shadow running into the border in every row.
+        let band_rows = self
+            .masks
+            .iter()
+            .filter(|m| m.prev_valid_end(WIDTH) + DEAD_BAND <= WIDTH)
+            .count();
+        let dead_band = 10 * band_rows >= 9 * HEIGHT;
         for v in 1..HEIGHT - 1 {
             let row = &raw[v * WIDTH..(v + 1) * WIDTH];
             let mask = &self.masks[v];
@@ -402,9 +413,35 @@ impl ColourSplit {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
+                if b == WIDTH && !dead_band {
+                    if let Some(s) = self.off_image_attached(raw, rgb, v, (a, b), range) {
+                        // Where the wall beside it leaves the range, so does the shadow.
+                        let (done, rest) = labels.split_at_mut(v * WIDTH);
+                        let labels_row = &mut rest[..WIDTH];
+                        relabel(&mut labels_row[a..a + s], OTHER, ATTACHED);
+                        beyond_range_span(
+                            row,
+                            (a, a + s),
+                            split_range,
+                            &done[(v - 1) * WIDTH..],
+                            labels_row,
+                        );
+                        let span = &mut labels_row[a..a + s];
+                        let out = span.iter().filter(|&&l| l == OTHER).count();
+                        if out > span.len() - out {
+                            relabel(span, ATTACHED, OTHER);
+                        }
+                        u = mask.next_hole(b.max(u + 1));
+                        continue;
+                    }
+                }
                 // The background on the left first; failing that, a nearer surface on the left
                 // with the background behind it showing on the right.
-                let split = (raw[i - 1] != NO_DEPTH)
+                // A hole running into the right border where the wall beside it reaches the
+                // range's end lies beyond the range (the occluder it shows is on that wall).
+                let beyond =
+                    b == WIDTH && a > 0 && self.leaves_range(raw, v, a, range) == Some(true);
+                let split = (raw[i - 1] != NO_DEPTH && !beyond)
                     .then(|| {
                         [false, true].into_iter().find_map(|behind| {
                             let c = self.candidate(raw, labels, v, (u, b), false, behind)?;

@@ -16,14 +16,38 @@
 //!   occluder without depth shows in the RGB image left of it (then the hole is that occluder);
 //! - six of the eight rows around it hold the same hole (an occluder is a solid; the sensor's
 //!   dropouts are not).
+//!
+//! A wider occluder just past the border casts an *attached* shadow that runs into the border:
+//! a hole with wall on its left only. The RGB camera, a third of the way from the IR camera to
+//! the projector, sees that occluder's left edge a third of its shift left of where the shadow
+//! ends: over the wall's columns, two thirds of the shift past the hole's start. Where it sees
+//! the wall's colour that far and then something else, the shift follows from that edge; the
+//! hole is the shadow when the shift reaches the border (the occluder stands beyond it). A black
+//! surface at the border shows at the hole's start instead; a real sensor's dead band along the
+//! border (8 px or more in every row) hides any such shadow in itself, and frames with one are
+//! left alone.
 
+use super::Range;
 use super::{
-    hole_span, hue_dist, ColourSplit, COLOUR_STEP, MAX_ISLAND, SAME_SURFACE, SIDE, SIDES_AGREE,
+    hole_span, hue_dist, ColourSplit, COLOUR_STEP, MAX_ISLAND, OPEN_WINDOW, SAME_SURFACE, SIDE,
+    SIDES_AGREE, SPREAD_NUM, SPREAD_SPAN,
 };
 use crate::labels::{HEIGHT, NO_DEPTH, WIDTH};
 
 /// Narrowest hole considered (pixels): single-pixel holes are speckle.
 const MIN_WIDTH: usize = 2;
+/// Raw units under the frame's farthest value within which a wall may be at the range's end.
+const NEAR_FAR: u16 = 3;
+/// Pixels over which a wall's slope towards the range's end is read.
+const SLOPE_SPAN: usize = 64;
+/// Raw units per pixel past which a wall recedes towards the range's end. In an independent
+/// simulator's scenes, walls turned 12–13° away that leave the range mid-row rise by 0.025 to
+/// 0.044 (10th to 90th percentile of the rows) over [`SLOPE_SPAN`]; walls turned 3–4° whose
+/// farthest part lies at the border, in range, by 0.008 to 0.020 (a level wall's slope reads
+/// within ±0.005 under depth noise of σ 0.5 raw units).
+const RECEDES: f32 = 0.022;
+/// Lit wall (pixels) left of a hole running into the right border that it must continue.
+const LIT_WALL: usize = 24;
 /// Rows looked at on each side of the hole's row.
 const ROWS_AROUND: usize = 4;
 /// Of those (twice [`ROWS_AROUND`]), how many must hold the same hole: a thin occluder's shadow
@@ -62,6 +86,162 @@ impl ColourSplit {
         if seen_to > a + widest {
             return false;
         }
+        if !self.solid(raw, v, (a, b)) {
+            return false;
+        }
+        let Some(edge) = self.lit_to_border(row, b, a + widest) else {
+            return false;
+        };
+        self.shows_the_wall(rgb, v, (a, b), bg, edge)
+            && self.nothing_seen_before(row, rgb, v, a, bg, false)
+    }
+
+    /// The width of the attached shadow that the hole `[a, WIDTH)` of row `v`, running into the
+    /// right border, is of an occluder beyond that border, if it is one (see the module's docs).
+    pub(super) fn off_image_attached(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        v: usize,
+        (a, b): (usize, usize),
+        range: Range,
+    ) -> Option<usize> {
+        let row = &raw[v * WIDTH..(v + 1) * WIDTH];
+        if a < SIDE || b != WIDTH || b - a < MIN_WIDTH {
+            return None;
+        }
+        let bg = row[a - 1];
+        let d_bg = self.disp(bg);
+        let on_wall = |r: u16| r != NO_DEPTH && (self.disp(r) - d_bg).abs() <= SAME_SURFACE;
+        let widest = self.widest(bg);
+        if b - a > widest || !row[a - SIDE..a].iter().all(|&r| on_wall(r)) {
+            return None;
+        }
+        // The hole must continue a wall, not lie past a thin object before a void (a rod
+        // crossing a region beyond the sensor's range): the wall runs on to the left, or on
+        // past a patch without depth (a black poster) at its own depth.
+        let mut last = d_bg;
+        let mut u = a;
+        while u > 0 && a - u < LIT_WALL {
+            let r = row[u - 1];
+            if r == NO_DEPTH {
+                let gap = row[..u]
+                    .iter()
+                    .rev()
+                    .take_while(|&&r| r == NO_DEPTH)
+                    .count();
+                if gap > MAX_ISLAND {
+                    // Across a wide patch a wall turned away runs a few pixels of disparity
+                    // farther (2.5 px over 160 px in an independent simulator's scene).
+                    let beyond = row[..u - gap].last().map(|&r| self.disp(r) - last);
+                    if !beyond.is_some_and(|d| (-2.0 * SAME_SURFACE..=SAME_SURFACE).contains(&d)) {
+                        return None;
+                    }
+                    break;
+                }
+                u -= gap;
+                continue;
+            }
+            let d = self.disp(r);
+            if (d - last).abs() > SAME_SURFACE {
+                return None;
+            }
+            last = d;
+            u -= 1;
+        }
+        if self.leaves_range(raw, v, a, range) != Some(false) {
+            return None;
+        }
+        let wall = self.mean_colour(rgb, v, a - SIDE..a, bg)?;
+        // A patterned wall's next stripe is no occluder: the step rises to what the wall left
+        // of the hole strays by (a wall leaving the sensor's range across a hole at the border
+        // shows its pattern on, in an independent simulator's scenes).
+        let spread = self.wall_spread(rgb, v, a.saturating_sub(SPREAD_SPAN)..a, bg, wall);
+        let step = self.dimmed(COLOUR_STEP, wall).max(spread * SPREAD_NUM / 2);
+        let is_wall = |u: usize| self.probe(rgb, u, v, bg).map(|p| hue_dist(p, wall) < step);
+        // The wall's colour to the occluder's edge, which must lie at least two thirds of the
+        // hole's width on (its shift reaches the border), then the occluder over a window.
+        let e = (a..a + widest).find(|&u| is_wall(u) != Some(true))?;
+        if 3 * (e - a) + 1 < 2 * (b - a) {
+            return None;
+        }
+        let window = (e..e + OPEN_WINDOW).map(is_wall);
+        let (seen, unlike) = window.fold((0, 0), |(n, k), w| match w {
+            Some(w) => (n + 1, k + usize::from(!w)),
+            None => (n, k),
+        });
+        if seen < 3 || 4 * unlike < 3 * seen {
+            return None;
+        }
+        // The shift whose occluder edge (IR column `a + s` at the background's disparity plus
+        // `s`) the RGB camera sees where the wall's colour ends.
+        let x_e = self.project(e as f64 - 0.5, v, bg).0;
+        let s = (1..=widest).find(|&s| {
+            let x = self
+                .project((a + s) as f64 - 0.5, v, self.raw_at_disp(d_bg + s as f64))
+                .0;
+            x >= x_e
+        })?;
+        (a + s >= b && self.solid(raw, v, (a, b))).then_some(b - a)
+    }
+
+    /// Whether the wall left of a hole starting at `a` of row `v` may leave the sensor's range
+    /// inside it: within [`NEAR_FAR`] raw units of the frame's farthest value and receding (its
+    /// raw value rising towards the hole, over the [`SLOPE_SPAN`] pixels before it, by more than
+    /// [`RECEDES`] a pixel). None when that stretch is too cluttered to tell. Beyond the range
+    /// a hole is OTHER, lit or not (SPEC §1); a level wall that is merely the frame's farthest
+    /// surface keeps its shadows.
+    pub(super) fn leaves_range(
+        &self,
+        raw: &[u16],
+        v: usize,
+        a: usize,
+        range: Range,
+    ) -> Option<bool> {
+        let bg = raw[v * WIDTH + a - 1];
+        // The pixels read below lie within 2·NEAR_FAR of `bg`: most holes end here.
+        if bg + 3 * NEAR_FAR < range.far {
+            return Some(false);
+        }
+        // The wall's pixels (a raw unit's noise apart from a step) over the span, in this row
+        // and the two beside it (a third of one row's noise on the slope): their least-squares
+        // slope, on whatever of the span clutter leaves.
+        let from = a.saturating_sub(SLOPE_SPAN);
+        let (mut n, mut sx, mut sy, mut sxx, mut sxy) = (0.0f32, 0.0, 0.0, 0.0, 0.0);
+        let (mut near, mut near_n) = (0.0f32, 0.0f32);
+        for w in v.saturating_sub(1)..(v + 2).min(HEIGHT) {
+            for (u, &r) in raw[w * WIDTH..(w + 1) * WIDTH]
+                .iter()
+                .enumerate()
+                .take(a)
+                .skip(from)
+            {
+                if r == NO_DEPTH || r.abs_diff(bg) > 2 * NEAR_FAR {
+                    continue;
+                }
+                let (x, y) = (u as f32, f32::from(r));
+                (n, sx, sy, sxx, sxy) = (n + 1.0, sx + x, sy + y, sxx + x * x, sxy + x * y);
+                if u + SIDE >= a {
+                    (near, near_n) = (near + y, near_n + 1.0);
+                }
+            }
+        }
+        if near_n == 0.0 || near / near_n + f32::from(NEAR_FAR) < f32::from(range.far) {
+            return Some(false);
+        }
+        let var = n * sxx - sx * sx;
+        // Fewer pixels than a quarter of the span in each of the three rows, or bunched up
+        // (spread over less than half the span): too cluttered to tell.
+        if 4.0 * n < 3.0 * SLOPE_SPAN as f32 || var < n * n * (SLOPE_SPAN * SLOPE_SPAN / 48) as f32
+        {
+            return None;
+        }
+        Some((n * sxy - sx * sy) / var > RECEDES)
+    }
+
+    /// True when six of the eight rows around `v` hold the hole `[a, b)` (ends within
+    /// [`ENDS_AGREE`]): an occluder is a solid, the sensor's dropouts are not.
+    fn solid(&self, raw: &[u16], v: usize, (a, b): (usize, usize)) -> bool {
         // Nearest rows first: the sensor's dropouts (most holes of a real frame) fail there.
         // Each row's hole is held to this row's, or to the one next to it towards `v`, so a
         // slanted shadow (a tilted rod's, its ends moving a pixel or so a row) holds too.
@@ -88,11 +268,7 @@ impl ColourSplit {
                 }
             }
         }
-        let Some(edge) = self.lit_to_border(row, b, a + widest) else {
-            return false;
-        };
-        self.shows_the_wall(rgb, v, (a, b), bg, edge)
-            && self.nothing_seen_before(row, rgb, v, a, bg, false)
+        true
     }
 
     /// True when the RGB camera sees the wall's colour (read just left of the hole) over the
