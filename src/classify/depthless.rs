@@ -439,8 +439,11 @@ impl ColourSplit {
                 // with the background behind it showing on the right.
                 // A hole running into the right border where the wall beside it reaches the
                 // range's end lies beyond the range (the occluder it shows is on that wall).
-                let beyond =
-                    b == WIDTH && a > 0 && self.leaves_range(raw, v, a, range) == Some(true);
+                // (Narrower ones are no candidates there: the test is read only for wider ones.)
+                let beyond = b == WIDTH
+                    && b - a >= MIN_BORDER_HOLE
+                    && a > 0
+                    && self.leaves_range(raw, v, a, range) == Some(true);
                 let split = (raw[i - 1] != NO_DEPTH && !beyond)
                     .then(|| {
                         [false, true].into_iter().find_map(|behind| {
