@@ -96,7 +96,7 @@ pub struct IrGeometry {
     /// Would the surface yield depth if lit (albedo, range, not specular)?
     pub measurable: Vec<bool>,
     /// Per row whose last pixel is in shadow: the object seen at the first lit column past the
-    /// right border (`u32::MAX` for none within [`BEYOND`] columns), where that shadow ends.
+    /// right border (`u32::MAX` for none within 256 columns), where that shadow ends.
     pub beyond: Vec<u32>,
 }
 
