@@ -2302,6 +2302,55 @@ fn black_panel_across_the_right_border_and_the_whole_height_keeps_its_shadow() {
     );
 }
 
+#[test]
+fn black_box_at_the_right_border_keeps_its_shadow_across_a_striped_wall() {
+    // A black board 1 cm thick, 1 m away, from x = 0.2 m to past the right border (its left
+    // edge at column cx + fx·0.2/1.01), before a wall at 3 m striped every 12 cm with 6 cm of a
+    // darker tone of the wall's own colour: one hole from the shadow's start to the border. The
+    // shadow is f·b·(1/1.01 − 1/3) px wide (28.7 px), from x = 0.46 m on the wall, and a dark
+    // stripe crosses it at x = 0.50–0.56 m. Read from the left, the stripe looks like the
+    // board's first columns; but the wall shows that tone left of the hole too (a stripe at
+    // 0.38–0.44 m), so it is wall. Attached F1 0.450 before the wall's colours were sampled
+    // (recall 0.29), 0.989 after (floor 0.9).
+    let mut scene = Scene::new("black box at the right border before a striped wall");
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(3.0),
+        umbra::synth::Material::matte([0.6, 0.42, 0.3]),
+    );
+    for k in -2..12 {
+        let x = 0.26 + 0.12 * f64::from(k);
+        scene.push(
+            "poster",
+            umbra::synth::Shape::Box {
+                centre: umbra::synth::V3::new(x, 0.0, 2.998),
+                half: umbra::synth::V3::new(0.03, 3.0, 0.002),
+                yaw: 0.0,
+            },
+            umbra::synth::Material::matte([0.3, 0.21, 0.15]),
+        );
+    }
+    push_black_box(&mut scene, "box", [0.7, 0.0, 1.005], [0.5, 0.3, 0.005]);
+    let calib = Calibration::nyu_default();
+    // Cast by the box's far left edge, 1.01 m away (the camera sees its 1 cm side face).
+    let start =
+        calib.depth.cx + calib.depth.fx * 0.2 / 1.01 - calib.fb() * (1.0 / 1.01 - 1.0 / 3.0);
+    let (_, with_rgb) = with_and_without_colour(&scene, 60..62, false, |frame| {
+        let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
+        let cols: Vec<usize> = (0..WIDTH).filter(|&u| row[u] == ATTACHED).collect();
+        assert!(
+            cols.len() >= 29 && (cols[0] as f64 - start).abs() <= 4.0,
+            "the scene's shadow {cols:?}, by hand from {start:.1}"
+        );
+    });
+    at_least(
+        &with_rgb,
+        Some(ATTACHED),
+        0.9,
+        "IR attached of a black box before a striped wall",
+    );
+}
+
 /// A black pipe (r = 1.5 cm, `2·half_len` long) centred at 1 m before a wall at 3 m, its axis
 /// rising `slope` per unit across: its edge moves 1/slope px a row.
 fn black_pipe_before_wall(slope: f64, half_len: f64) -> Scene {

@@ -101,6 +101,12 @@ const SPREAD_SPAN: usize = 40;
 /// The raised step at most, in halves of that texture's spread: a column may stray from the
 /// wall's colour by half as much again as the wall itself does.
 const SPREAD_NUM: u32 = 3;
+/// Wall colours sampled left of an open hole ([`ColourSplit::wall_palette`]).
+const PALETTE: usize = 16;
+/// Pixels right of a palette sample that must hold no hole: the RGB camera sees a depthless
+/// occluder a third of its shift left of its hole, over the wall there (a black rod crossing a
+/// wall put its own colour into the palette, and the black box beside it was called wall).
+const PALETTE_CLEAR: usize = 12;
 /// Valid runs this short inside a hole are noise, stepped over.
 const MAX_ISLAND: usize = 2;
 /// The occluder's left edge (hole start plus shadow width) may move by this much (pixels) from
@@ -783,11 +789,11 @@ impl ColourSplit {
         if (above.is_none() || below.is_none()) && !self.occluder_in_middle(rgb, v, c) {
             return None;
         }
-        let s = self.split_memo(rgb, v, c, prefix)?;
+        let s = self.split_memo(raw, rgb, v, c, prefix)?;
         // Where each row's split puts the occluder's edge, and how wide its shadow is.
         let edge = c.a + s.0;
         let mut split_in = |w: usize, n: Candidate| {
-            self.split_memo(rgb, w, n, prefix)
+            self.split_memo(raw, rgb, w, n, prefix)
                 .map(|(t, _)| (n.a + t, t))
         };
         let up = above.and_then(|n| split_in(v - 1, n));
@@ -1134,11 +1140,18 @@ impl ColourSplit {
     }
 
     /// [`ColourSplit::split`], remembered for the rows around the current one.
-    fn split_memo(&self, rgb: &[u8], v: usize, c: Candidate, prefix: &mut Prefix) -> Split {
+    fn split_memo(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        v: usize,
+        c: Candidate,
+        prefix: &mut Prefix,
+    ) -> Split {
         if let Some(&(_, _, hit)) = prefix.memo.iter().flatten().find(|m| m.0 == v && m.1 == c) {
             return hit;
         }
-        let result = self.split(rgb, v, c, prefix);
+        let result = self.split(raw, rgb, v, c, prefix);
         prefix.memo[prefix.next] = Some((v, c, result));
         prefix.next = (prefix.next + 1) % MEMO;
         result
@@ -1167,6 +1180,39 @@ impl ColourSplit {
     fn probe(&self, rgb: &[u8], u: usize, v: usize, raw: u16) -> Option<[i32; 3]> {
         let (x, y) = self.project(u as f64, v, raw);
         rgb_mean3(rgb, x, y)
+    }
+
+    /// Up to [`PALETTE`] colours the RGB camera sees on the wall at IR pixels `wall` of row `v`,
+    /// evenly spread over it: single pixels, of those on the background (raw value `bg`, within
+    /// [`SAME_SURFACE`]; a farther wall or an object beside it is no part of its pattern).
+    fn wall_palette(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        v: usize,
+        wall: std::ops::Range<usize>,
+        bg: u16,
+    ) -> ([[i32; 3]; PALETTE], usize) {
+        let mut out = ([[0; 3]; PALETTE], 0);
+        let step = (wall.len() / PALETTE).max(1);
+        let d_bg = self.disp(bg);
+        for u in wall.step_by(step) {
+            let r = raw[v * WIDTH + u];
+            // Left of a hole the RGB camera may see its depthless occluder over the wall.
+            if out.1 == PALETTE
+                || r == NO_DEPTH
+                || (self.disp(r) - d_bg).abs() > SAME_SURFACE
+                || self.masks[v].next_hole(u) <= u + PALETTE_CLEAR
+            {
+                continue;
+            }
+            let (x, y) = self.project(u as f64, v, bg);
+            if let Some(p) = rgb_at(rgb, x, y) {
+                out.0[out.1] = p;
+                out.1 += 1;
+            }
+        }
+        out
     }
 
     /// How far the RGB camera sees the wall at IR pixels `wall` of row `v` (raw value `raw`;
@@ -1225,7 +1271,7 @@ impl ColourSplit {
     /// under the hole, when it explains nearly all of it and clearly better than no shadow; and
     /// the occluder's shift (its disparity above the background's), the same unless part of the
     /// shadow is hidden ([`Candidate::behind`]).
-    fn split(&self, rgb: &[u8], v: usize, c: Candidate, prefix: &mut Prefix) -> Split {
+    fn split(&self, raw: &[u16], rgb: &[u8], v: usize, c: Candidate, prefix: &mut Prefix) -> Split {
         // Background colour: the mean of each side, which must agree.
         let side = |us: std::ops::Range<usize>| self.mean_colour(rgb, v, us, c.bg);
         // Cheap probes first (most holes of a real frame fail here): the hole's first pixel must
@@ -1323,11 +1369,38 @@ impl ColourSplit {
         // while they stray no further than the wall beside the hole does ([`Self::wall_spread`]
         // first: a few dozen pixels against every column, and a plain wall, most, needs no more).
         let spread = spread_of();
-        let dist = |k: usize| hue_dist(colour(k), bg);
+        // An open hole's first run of other columns ends its shadow: on a patterned wall that is
+        // the pattern's next patch unless columns showing a colour the wall itself shows left of
+        // the hole (within half a step of one of a few samples) count as wall, up to the first
+        // column unlike the wall and all of its colours: the occluder, past which the RGB camera
+        // may see the wall's other colours again. Not for a closed hole read as an open one
+        // (its sides differ in hue or light, and the other side's hue is no occluder either:
+        // read so, a rod's shadow on a wall of two hues came out 3 px too wide).
+        // (Read once, and only when a column strays from the background by a step.)
+        let palette = std::cell::OnceCell::new();
+        let occluder_seen = std::cell::Cell::new(false);
+        let plain = |k: usize| hue_dist(colour(k), bg);
         let col_step = if SPREAD_NUM * spread / 2 > step {
-            contrast_step(pixels.len() / 3, step, dist).min(SPREAD_NUM * spread / 2)
+            contrast_step(pixels.len() / 3, step, plain).min(SPREAD_NUM * spread / 2)
         } else {
             step
+        };
+        let dist = |k: usize| {
+            let p = colour(k);
+            let d = hue_dist(p, bg);
+            if d < col_step || c.closed || c.opened || occluder_seen.get() {
+                return d;
+            }
+            let Some(w) = wall.clone() else {
+                return d;
+            };
+            let (qs, m) = palette.get_or_init(|| self.wall_palette(raw, rgb, v, w, c.bg));
+            if qs[..*m].iter().any(|&q| hue_dist(p, q) < step / 2) {
+                0
+            } else {
+                occluder_seen.set(true);
+                d
+            }
         };
         let columns = background_columns(pixels.len() / 3, col_step, dist);
         for (k, is_bg) in columns.enumerate() {
