@@ -420,19 +420,19 @@ impl ColourSplit {
                     continue;
                 }
                 if b == WIDTH && !dead_band {
-                    if let Some(s) = self.off_image_attached(raw, rgb, v, (a, b), range) {
+                    if self.off_image_attached(raw, rgb, v, (a, b), range) {
                         // Where the wall beside it leaves the range, so does the shadow.
                         let (done, rest) = labels.split_at_mut(v * WIDTH);
                         let labels_row = &mut rest[..WIDTH];
-                        relabel(&mut labels_row[a..a + s], OTHER, ATTACHED);
+                        relabel(&mut labels_row[a..b], OTHER, ATTACHED);
                         beyond_range_span(
                             row,
-                            (a, a + s),
+                            (a, b),
                             split_range,
                             &done[(v - 1) * WIDTH..],
                             labels_row,
                         );
-                        let span = &mut labels_row[a..a + s];
+                        let span = &mut labels_row[a..b];
                         let out = span.iter().filter(|&&l| l == OTHER).count();
                         if out > span.len() - out {
                             relabel(span, ATTACHED, OTHER);

@@ -96,8 +96,8 @@ impl ColourSplit {
             && self.nothing_seen_before(row, rgb, v, a, bg, false)
     }
 
-    /// The width of the attached shadow that the hole `[a, WIDTH)` of row `v`, running into the
-    /// right border, is of an occluder beyond that border, if it is one (see the module's docs).
+    /// True when the hole `[a, WIDTH)` of row `v`, running into the right border, is the attached
+    /// shadow of an occluder beyond that border (see the module's docs).
     pub(super) fn off_image_attached(
         &self,
         raw: &[u16],
@@ -105,17 +105,17 @@ impl ColourSplit {
         v: usize,
         (a, b): (usize, usize),
         range: Range,
-    ) -> Option<usize> {
+    ) -> bool {
         let row = &raw[v * WIDTH..(v + 1) * WIDTH];
         if a < SIDE || b != WIDTH || b - a < MIN_WIDTH {
-            return None;
+            return false;
         }
         let bg = row[a - 1];
         let d_bg = self.disp(bg);
         let on_wall = |r: u16| r != NO_DEPTH && (self.disp(r) - d_bg).abs() <= SAME_SURFACE;
         let widest = self.widest(bg);
         if b - a > widest || !row[a - SIDE..a].iter().all(|&r| on_wall(r)) {
-            return None;
+            return false;
         }
         // The hole must continue a wall, not lie past a thin object before a void (a rod
         // crossing a region beyond the sensor's range): the wall runs on to the left, or on
@@ -135,7 +135,7 @@ impl ColourSplit {
                     // farther (2.5 px over 160 px in an independent simulator's scene).
                     let beyond = row[..u - gap].last().map(|&r| self.disp(r) - last);
                     if !beyond.is_some_and(|d| (-2.0 * SAME_SURFACE..=SAME_SURFACE).contains(&d)) {
-                        return None;
+                        return false;
                     }
                     break;
                 }
@@ -144,15 +144,17 @@ impl ColourSplit {
             }
             let d = self.disp(r);
             if (d - last).abs() > SAME_SURFACE {
-                return None;
+                return false;
             }
             last = d;
             u -= 1;
         }
         if self.leaves_range(raw, v, a, range) != Some(false) {
-            return None;
+            return false;
         }
-        let wall = self.mean_colour(rgb, v, a - SIDE..a, bg)?;
+        let Some(wall) = self.mean_colour(rgb, v, a - SIDE..a, bg) else {
+            return false;
+        };
         // A patterned wall's next stripe is no occluder: the step rises to what the wall left
         // of the hole strays by (a wall leaving the sensor's range across a hole at the border
         // shows its pattern on, in an independent simulator's scenes).
@@ -161,9 +163,11 @@ impl ColourSplit {
         let is_wall = |u: usize| self.probe(rgb, u, v, bg).map(|p| hue_dist(p, wall) < step);
         // The wall's colour to the occluder's edge, which must lie at least two thirds of the
         // hole's width on (its shift reaches the border), then the occluder over a window.
-        let e = (a..a + widest).find(|&u| is_wall(u) != Some(true))?;
+        let Some(e) = (a..a + widest).find(|&u| is_wall(u) != Some(true)) else {
+            return false;
+        };
         if 3 * (e - a) + 1 < 2 * (b - a) {
-            return None;
+            return false;
         }
         let window = (e..e + OPEN_WINDOW).map(is_wall);
         let (seen, unlike) = window.fold((0, 0), |(n, k), w| match w {
@@ -171,18 +175,18 @@ impl ColourSplit {
             None => (n, k),
         });
         if seen < 3 || 4 * unlike < 3 * seen {
-            return None;
+            return false;
         }
-        // The shift whose occluder edge (IR column `a + s` at the background's disparity plus
-        // `s`) the RGB camera sees where the wall's colour ends.
+        // The occluder's edge with shift `s` (IR column `a + s` at the background's disparity
+        // plus `s`) moves right in the RGB image as `s` grows: the shift the colour edge gives
+        // reaches the border when a shift one short of it would still show left of that edge
+        // (and the widest shift reaches it).
         let x_e = self.project(e as f64 - 0.5, v, bg).0;
-        let s = (1..=widest).find(|&s| {
-            let x = self
-                .project((a + s) as f64 - 0.5, v, self.raw_at_disp(d_bg + s as f64))
-                .0;
-            x >= x_e
-        })?;
-        (a + s >= b && self.solid(raw, v, (a, b))).then_some(b - a)
+        let edge_at = |s: usize| {
+            self.project((a + s) as f64 - 0.5, v, self.raw_at_disp(d_bg + s as f64))
+                .0
+        };
+        edge_at(b - a - 1) < x_e && edge_at(widest) >= x_e && self.solid(raw, v, (a, b))
     }
 
     /// Whether the wall left of a hole starting at `a` of row `v` may leave the sensor's range
