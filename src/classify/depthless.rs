@@ -419,27 +419,25 @@ impl ColourSplit {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
-                if b == WIDTH && !dead_band {
-                    if self.off_image_attached(raw, rgb, v, (a, b), range) {
-                        // Where the wall beside it leaves the range, so does the shadow.
-                        let (done, rest) = labels.split_at_mut(v * WIDTH);
-                        let labels_row = &mut rest[..WIDTH];
-                        relabel(&mut labels_row[a..b], OTHER, ATTACHED);
-                        beyond_range_span(
-                            row,
-                            (a, b),
-                            split_range,
-                            &done[(v - 1) * WIDTH..],
-                            labels_row,
-                        );
-                        let span = &mut labels_row[a..b];
-                        let out = span.iter().filter(|&&l| l == OTHER).count();
-                        if out > span.len() - out {
-                            relabel(span, ATTACHED, OTHER);
-                        }
-                        u = mask.next_hole(b.max(u + 1));
-                        continue;
+                if b == WIDTH && !dead_band && self.off_image_attached(raw, rgb, v, (a, b), range) {
+                    // Where the wall beside it leaves the range, so does the shadow.
+                    let (done, rest) = labels.split_at_mut(v * WIDTH);
+                    let labels_row = &mut rest[..WIDTH];
+                    relabel(&mut labels_row[a..b], OTHER, ATTACHED);
+                    beyond_range_span(
+                        row,
+                        (a, b),
+                        split_range,
+                        &done[(v - 1) * WIDTH..],
+                        labels_row,
+                    );
+                    let span = &mut labels_row[a..b];
+                    let out = span.iter().filter(|&&l| l == OTHER).count();
+                    if out > span.len() - out {
+                        relabel(span, ATTACHED, OTHER);
                     }
+                    u = mask.next_hole(b.max(u + 1));
+                    continue;
                 }
                 // The background on the left first; failing that, a nearer surface on the left
                 // with the background behind it showing on the right.
