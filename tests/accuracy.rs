@@ -418,13 +418,11 @@ fn panel_beyond_the_right_border(x_edge: f64) -> Scene {
         umbra::synth::scene::wall(3.0),
         umbra::synth::Material::matte([0.8, 0.78, 0.7]),
     );
-    scene.push(
+    push_box(
+        &mut scene,
         "panel",
-        umbra::synth::Shape::Box {
-            centre: umbra::synth::V3::new(x_edge + 0.5, 0.0, 1.005),
-            half: umbra::synth::V3::new(0.5, 0.3, 0.005),
-            yaw: 0.0,
-        },
+        [x_edge + 0.5, 0.0, 1.005],
+        [0.5, 0.3, 0.005],
         umbra::synth::Material::matte([0.2, 0.35, 0.8]),
     );
     scene
@@ -510,24 +508,20 @@ fn turned_wall_with_a_poster(z0: f64, poster_x: f64) -> Scene {
         umbra::synth::Material::matte([0.8, 0.78, 0.7]),
     );
     let z = z0 + (poster_x + 0.25) * tilt.tan();
-    scene.push(
+    push_box(
+        &mut scene,
         "poster",
-        umbra::synth::Shape::Box {
-            centre: umbra::synth::V3::new(poster_x + 0.25, 0.0, z - 0.05),
-            half: umbra::synth::V3::new(0.25, 3.0, 0.04),
-            yaw: 0.0,
-        },
+        [poster_x + 0.25, 0.0, z - 0.05],
+        [0.25, 3.0, 0.04],
         umbra::synth::Material::matte([0.8, 0.15, 0.1]),
     );
     // A board 2 m away across the top sixth of the view: rows without a hole at the border, so
     // the frame is not taken for a real sensor's with its dead band.
-    scene.push(
+    push_box(
+        &mut scene,
         "board",
-        umbra::synth::Shape::Box {
-            centre: umbra::synth::V3::new(0.0, -1.0, 2.0),
-            half: umbra::synth::V3::new(4.0, 0.4, 0.02),
-            yaw: 0.0,
-        },
+        [0.0, -1.0, 2.0],
+        [4.0, 0.4, 0.02],
         umbra::synth::Material::matte([0.5, 0.5, 0.55]),
     );
     scene
@@ -903,6 +897,17 @@ fn black_poster_inside_a_box_shadow_is_other_where_the_rgb_camera_sees_it() {
 /// Pushes onto `scene` an upright black box (a poster, a panel, a strip) named `name`, centred
 /// at `centre` with half extents `half` (metres).
 fn push_black_box(scene: &mut Scene, name: &'static str, centre: [f64; 3], half: [f64; 3]) {
+    push_box(scene, name, centre, half, umbra::synth::Material::black());
+}
+
+/// An upright box of `material` (centre and half-extents in metres, not turned).
+fn push_box(
+    scene: &mut Scene,
+    name: &'static str,
+    centre: [f64; 3],
+    half: [f64; 3],
+    material: umbra::synth::Material,
+) {
     scene.push(
         name,
         umbra::synth::Shape::Box {
@@ -910,7 +915,7 @@ fn push_black_box(scene: &mut Scene, name: &'static str, centre: [f64; 3], half:
             half: umbra::synth::V3::from(half),
             yaw: 0.0,
         },
-        umbra::synth::Material::black(),
+        material,
     );
 }
 
@@ -2320,13 +2325,11 @@ fn black_box_at_the_right_border_keeps_its_shadow_across_a_striped_wall() {
     );
     for k in -2..12 {
         let x = 0.26 + 0.12 * f64::from(k);
-        scene.push(
+        push_box(
+            &mut scene,
             "poster",
-            umbra::synth::Shape::Box {
-                centre: umbra::synth::V3::new(x, 0.0, 2.998),
-                half: umbra::synth::V3::new(0.03, 3.0, 0.002),
-                yaw: 0.0,
-            },
+            [x, 0.0, 2.998],
+            [0.03, 3.0, 0.002],
             umbra::synth::Material::matte([0.3, 0.21, 0.15]),
         );
     }
