@@ -470,6 +470,140 @@ fn attached_shadow_of_a_panel_beyond_the_right_border_is_told_by_colour() {
     );
 }
 
+/// A black box 0.3 m wide and 0.6 m tall whose front face, 1 m away, starts at IR column
+/// `u_left`, before a wall at 3 m.
+fn black_box_at_the_left_border(u_left: f64) -> Scene {
+    let calib = Calibration::nyu_default();
+    let x_left = (u_left - calib.depth.cx) / calib.depth.fx;
+    let mut scene = Scene::new("black box at the left border");
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(3.0),
+        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
+    );
+    push_black_box(
+        &mut scene,
+        "box",
+        [x_left + 0.15, 0.0, 1.05],
+        [0.15, 0.3, 0.05],
+    );
+    scene
+}
+
+#[test]
+fn attached_shadow_of_a_black_box_running_off_the_left_border_is_told_by_colour() {
+    // The box's front face starts at column 20; the projector, right of the camera, sees the
+    // same corner, so the shadow on the wall is f·b·(1/1 − 1/3) = 29.1 px wide by hand and
+    // starts 9 px past the left border: box and shadow are one hole from column 0, with no
+    // background on its left for eq. (3) or the colour split. The RGB camera sees the box's
+    // edges a third of the shift (9.7 px) left of the IR camera's: the wall over the shadow's
+    // first 10 columns, the box, then a strip of wall right of it, which gives the shift.
+    let calib = Calibration::nyu_default();
+    let u_left = 20.0;
+    let start = u_left - calib.fb() * (1.0 / 1.0 - 1.0 / 3.0);
+    assert!(start < -5.0, "{start}");
+    let scene = black_box_at_the_left_border(u_left);
+    // The simulator agrees (no widening on the ideal sensor).
+    let ideal = render_frame(&scene, &calib, &SensorModel::ideal(), 40);
+    for v in (100..HEIGHT - 100).step_by(40) {
+        let row = &ideal.ir_labels[v * WIDTH..(v + 1) * WIDTH];
+        let cols: Vec<usize> = (0..WIDTH).filter(|&u| row[u] == ATTACHED).collect();
+        assert!(
+            cols.first() == Some(&0) && (cols.len() as f64 - u_left).abs() <= 1.0,
+            "row {v}: the scene's shadow {cols:?}, by hand to {u_left}"
+        );
+    }
+    let (depth_only, with_rgb) = with_and_without_colour(&scene, 40..42, false, |_| {});
+    let alone = depth_only.class(ATTACHED);
+    assert!(
+        alone.recall.unwrap_or(0.0) < 0.05,
+        "depth alone has no background left of the shadow: {alone:?}"
+    );
+    at_least(
+        &with_rgb,
+        Some(ATTACHED),
+        0.9,
+        "IR attached of a black box at the left border",
+    );
+}
+
+#[test]
+fn black_poster_at_the_left_border_casts_no_shadow_from_colour() {
+    // A black poster on the wall at 3 m, from past the left border to x = −0.9 m (column 138),
+    // 1.8 m tall: a hole from column 0 with wall on its right, black in the RGB image up to its
+    // right edge, where the RGB camera sees it too (it lies on the wall: no strip of wall right
+    // of it). No shadow.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::new("black poster at the left border");
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(3.0),
+        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
+    );
+    push_black_box(&mut scene, "poster", [-1.5, 0.0, 2.995], [0.6, 0.9, 0.005]);
+    for seed in 40..42 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        let hole = (0..PIXELS)
+            .filter(|&i| i % WIDTH < 60 && frame.ir_labels[i] == OTHER)
+            .count();
+        assert!(hole > 18_000, "the poster's hole at the border: {hole} px");
+        let out = classify_rgb(&calib, &frame);
+        let claimed = out.ir_labels.iter().filter(|&&l| l == ATTACHED).count();
+        assert_eq!(claimed, 0, "attached pixels claimed (seed {seed})");
+    }
+}
+
+#[test]
+fn black_box_at_the_left_border_before_a_wall_beyond_range_casts_no_shadow_there() {
+    // A black box at 1.23 m from column 20 to 209, before a wall at 5.5 m (beyond the 4.5 m
+    // range) with a partition at 3.2 m from column 226 on and a floor below: the hole from the
+    // left border runs past the box to the partition, and the RGB camera sees the far wall,
+    // pale like the partition, on both sides of the box: the layout of a shadow, a box and a
+    // strip of wall 17 px wide (a shift of about 50 px, room for the 20 px left of the box).
+    // But the box's shadow falls on the far wall, beyond the range: OTHER (SPEC §1), as is the
+    // wall's hole above the box, which reaches the image's top while the floor ends the column
+    // below.
+    let calib = Calibration::nyu_default();
+    let (fx, cx) = (calib.depth.fx, calib.depth.cx);
+    let pale = umbra::synth::Material::matte([0.8, 0.78, 0.7]);
+    let mut scene = Scene::new("black box at the left border, wall beyond range");
+    scene.push("wall", umbra::synth::scene::wall(5.5), pale);
+    scene.push("floor", umbra::synth::scene::floor(0.74, 0.09), pale);
+    let x_partition = (226.0 - cx) / fx * 3.2;
+    push_box(
+        &mut scene,
+        "partition",
+        [x_partition + 2.0, 0.0, 3.25],
+        [2.0, 3.0, 0.05],
+        umbra::synth::Material::matte([0.78, 0.76, 0.7]),
+    );
+    let x_left = (20.0 - cx) / fx * 1.23;
+    push_black_box(
+        &mut scene,
+        "box",
+        [x_left + 0.2, -0.1, 1.28],
+        [0.2, 0.25, 0.05],
+    );
+    for seed in 40..42 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        // Left of the box, where the scene's shadow falls beyond the range (near the floor it
+        // falls on the floor, in range).
+        let beyond: Vec<usize> = (0..PIXELS)
+            .filter(|&i| i % WIDTH < 20 && frame.ir_labels[i] == OTHER)
+            .collect();
+        assert!(beyond.len() > 3000, "{} px beyond the range", beyond.len());
+        let out = classify_rgb(&calib, &frame);
+        let claimed = beyond
+            .iter()
+            .filter(|&&i| out.ir_labels[i] == ATTACHED)
+            .count();
+        assert_eq!(
+            claimed, 0,
+            "attached pixels claimed beyond the range (seed {seed})"
+        );
+    }
+}
+
 #[test]
 fn with_a_dead_band_along_the_right_border_such_a_hole_is_not_claimed() {
     // A real sensor returns no depth in its last 8 columns, in every row (the NYU frame): a

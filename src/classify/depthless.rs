@@ -19,6 +19,9 @@
 //!   shift comes from its right edge, which the RGB camera sees moved left by a third of it;
 //! - a hole with no shadow to split off still gets its occluder's depth from that right edge, so
 //!   the warp finds the alignment shadow beside it;
+//! - a hole at the *left border* has no background on its left: the strip of wall right of the
+//!   occluder gives its shift, and the wall from the border to the occluder is its shadow
+//!   (`depthless/left_border.rs`);
 //! - a depthless occluder's *detached* shadow, a separate hole, is paired with the occluder's
 //!   hole by colour where depth alone finds several candidates (`depthless/pairs.rs`);
 //! - a hole the scanline called a thin Sb's attached shadow may hold a depthless object behind
@@ -37,6 +40,7 @@ use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 mod behind_rod;
 mod dark;
 mod dropouts;
+mod left_border;
 mod offimage;
 mod pairs;
 mod patch;
@@ -169,6 +173,11 @@ pub struct ColourSplit {
     /// The colour steps' factor for the current frame's camera noise, in 64ths
     /// ([`step_scale`](super::noise::step_scale)).
     noise_scale: u32,
+    /// Per row of the current frame, the left-border reading that held there, if one did
+    /// ([`ColourSplit::left_border_attached`]).
+    border: Vec<Option<left_border::BorderSplit>>,
+    /// Per row of the current frame, that reading before the rows around agreed.
+    border_read: Vec<Option<left_border::BorderSplit>>,
 }
 
 /// Prefix counts over the RGB columns under a hole of those that look like background, and the
@@ -255,6 +264,8 @@ impl ColourSplit {
             rgb_c: [calib.rgb.cx, calib.rgb.cy],
             simd: Simd::detect(),
             masks: vec![HoleMask::of(&[]); HEIGHT],
+            border: vec![None; HEIGHT],
+            border_read: vec![None; HEIGHT],
             prefix: Prefix {
                 bg_count: vec![0; WIDTH + 1],
                 ..Prefix::default()
@@ -352,6 +363,8 @@ impl ColourSplit {
             *mask = HoleMask::of(row);
         }
         self.widen = facts.left_widening;
+        self.border.fill(None);
+        self.border_read.fill(None);
         self.noise_scale = super::noise::step_scale(super::noise::rgb_noise(rgb));
         // A real sensor's dead band along the right border (8 px or more in every row) would
         // read as an occluder's shadow running into the border in every row.
@@ -438,6 +451,20 @@ impl ColourSplit {
                     }
                     u = mask.next_hole(b.max(u + 1));
                     continue;
+                }
+                // A hole from the left border has no background on its left for the reading
+                // below: a depthless occluder's strip of wall on its right tells its shift.
+                if a == 0 {
+                    let split = self.left_border_attached(raw, rgb, v, b, range);
+                    self.border_read[v] = split;
+                    if let Some(split) =
+                        split.filter(|&s| self.border_agreed(raw, rgb, v, s, range))
+                    {
+                        split.apply(v, labels, filled);
+                        self.border[v] = Some(split);
+                        u = mask.next_hole(b.max(u + 1));
+                        continue;
+                    }
                 }
                 // The background on the left first; failing that, a nearer surface on the left
                 // with the background behind it showing on the right.
@@ -598,6 +625,7 @@ impl ColourSplit {
             }
         }
         self.prefix = prefix;
+        self.bridge_left_border(raw, labels, filled);
     }
 
     /// Where the nearest row to `v` (at most [`GAP_ROWS`] away) shows a lit gap within

@@ -37,9 +37,9 @@ use crate::labels::{HEIGHT, NO_DEPTH, WIDTH};
 /// Narrowest hole considered (pixels): single-pixel holes are speckle.
 const MIN_WIDTH: usize = 2;
 /// Raw units under the frame's farthest value within which a wall may be at the range's end.
-const NEAR_FAR: u16 = 3;
+pub(super) const NEAR_FAR: u16 = 3;
 /// Pixels over which a wall's slope towards the range's end is read.
-const SLOPE_SPAN: usize = 64;
+pub(super) const SLOPE_SPAN: usize = 64;
 /// Raw units per pixel past which a wall recedes towards the range's end. In an independent
 /// simulator's scenes, walls turned 12–13° away that leave the range mid-row rise by 0.025 to
 /// 0.044 (10th to 90th percentile of the rows) over [`SLOPE_SPAN`]; walls turned 3–4° whose
@@ -203,6 +203,20 @@ impl ColourSplit {
         range: Range,
     ) -> Option<bool> {
         let bg = raw[v * WIDTH + a - 1];
+        self.wall_leaves_range(raw, v, bg, a.saturating_sub(SLOPE_SPAN)..a, false, range)
+    }
+
+    /// [`Self::leaves_range`] for the wall of raw value `bg` over columns `span` of row `v`,
+    /// beside a hole on its right (or, `hole_left`, on its left).
+    pub(super) fn wall_leaves_range(
+        &self,
+        raw: &[u16],
+        v: usize,
+        bg: u16,
+        span: std::ops::Range<usize>,
+        hole_left: bool,
+        range: Range,
+    ) -> Option<bool> {
         // The pixels read below lie within 2·NEAR_FAR of `bg`: most holes end here.
         if bg + 3 * NEAR_FAR < range.far {
             return Some(false);
@@ -210,22 +224,26 @@ impl ColourSplit {
         // The wall's pixels (a raw unit's noise apart from a step) over the span, in this row
         // and the two beside it (a third of one row's noise on the slope): their least-squares
         // slope, on whatever of the span clutter leaves.
-        let from = a.saturating_sub(SLOPE_SPAN);
         let (mut n, mut sx, mut sy, mut sxx, mut sxy) = (0.0f32, 0.0, 0.0, 0.0, 0.0);
         let (mut near, mut near_n) = (0.0f32, 0.0f32);
         for w in v.saturating_sub(1)..(v + 2).min(HEIGHT) {
             for (u, &r) in raw[w * WIDTH..(w + 1) * WIDTH]
                 .iter()
                 .enumerate()
-                .take(a)
-                .skip(from)
+                .take(span.end)
+                .skip(span.start)
             {
                 if r == NO_DEPTH || r.abs_diff(bg) > 2 * NEAR_FAR {
                     continue;
                 }
                 let (x, y) = (u as f32, f32::from(r));
                 (n, sx, sy, sxx, sxy) = (n + 1.0, sx + x, sy + y, sxx + x * x, sxy + x * y);
-                if u + SIDE >= a {
+                let beside = if hole_left {
+                    u < span.start + SIDE
+                } else {
+                    u + SIDE >= span.end
+                };
+                if beside {
                     (near, near_n) = (near + y, near_n + 1.0);
                 }
             }
@@ -240,12 +258,14 @@ impl ColourSplit {
         {
             return None;
         }
-        Some((n * sxy - sx * sy) / var > RECEDES)
+        // Receding is rising towards the hole.
+        let slope = (n * sxy - sx * sy) / var;
+        Some(if hole_left { -slope } else { slope } > RECEDES)
     }
 
     /// True when six of the eight rows around `v` hold the hole `[a, b)` (ends within
     /// [`ENDS_AGREE`]): an occluder is a solid, the sensor's dropouts are not.
-    fn solid(&self, raw: &[u16], v: usize, (a, b): (usize, usize)) -> bool {
+    pub(super) fn solid(&self, raw: &[u16], v: usize, (a, b): (usize, usize)) -> bool {
         // Nearest rows first: the sensor's dropouts (most holes of a real frame) fail there.
         // Each row's hole is held to this row's, or to the one next to it towards `v`, so a
         // slanted shadow (a tilted rod's, its ends moving a pixel or so a row) holds too.

@@ -1,0 +1,236 @@
+//! Attached shadows of depthless occluders that run off the IR image's left border.
+//!
+//! Shadows fall left of their occluders (SPEC §1). A black or glossy occluder near the left
+//! border makes one hole with its attached shadow, and where that shadow reaches the border the
+//! hole has no background on its left: the colour split's reading (background, then occluder)
+//! has nothing to start from, and the hole stays OTHER, shadow and all.
+//!
+//! The RGB camera, a third of the way from the IR camera to the projector, still tells the two
+//! parts apart. Read at the depth of the wall right of the hole, its row shows, from the hole's
+//! right end leftwards: the wall the occluder hides from the IR camera (a third of the
+//! occluder's shift wide: the occluder's right edge moves left by that much against the wall),
+//! the occluder, then the wall again, lit by the room only, to the border: the shadow. The strip
+//! gives the shift; the occluder's left edge, moved back by the same third, is where the shadow
+//! ends. The hole is that occluder and its shadow when
+//!
+//! - a surface bounds the hole on the right (three pixels of it at least: between an occluder
+//!   and the next hole a wall may show no wider than the strip) that does not recede out of the
+//!   range towards the hole, and is not patterned so boldly that its own colours lie as far
+//!   apart as a wall's and an occluder's (a textured box beside a glossy one);
+//! - the strip is at least two columns wide (a black poster on the wall shows none), the
+//!   occluder at least [`MIN_HOLE`] columns with a sharp left edge, and the RGB camera sees the
+//!   wall's colour from the border up to that edge;
+//! - the shadow's visible part is no wider than the whole shadow (eq. 3 at the strip's shift);
+//! - the column through the shadow measures, above and below the hole, either nothing at all
+//!   (an occluder as tall as the view) or, on one side at least, a surface no nearer than the
+//!   one right of the hole: a wall beyond the range leaves a hole as a shadow does, and it
+//!   reaches the image's top or bottom on one side, or ends at nearer things only (a floor);
+//! - six of the eight rows around hold the same hole, and a row within two reads the
+//!   occluder's edge alike (beyond the range, or on a pattern, such readings come and go).
+//!
+//! Rows between two that hold take their reading (as the vertical consensus would take their
+//! label), so the occluder's depth hides its third of the shadow in the RGB view there too.
+
+use super::offimage::SLOPE_SPAN;
+use super::{hue_dist, ColourSplit, Range, COLOUR_STEP, MIN_HOLE, SAME_SURFACE, SIDE};
+use super::{relabel, span_end};
+use super::{SPREAD_NUM, SPREAD_SPAN};
+use crate::labels::{ATTACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
+
+/// Narrowest strip (columns at the wall's depth) the occluder must leave right of it: one
+/// column is about three pixels of shift, and a poster's edge may blend one.
+const MIN_STRIP: usize = 2;
+/// Most rows between two that read the hole alike (the vertical consensus's reach).
+const BRIDGE_ROWS: usize = 3;
+/// How far (pixels) the hole's end may move from those rows'.
+const ENDS_AGREE: usize = 3;
+/// Columns past the occluder's left edge that must all be unlike the wall.
+const EDGE: usize = 3;
+/// Fewest pixels of the surface right of the hole.
+const MIN_SURFACE: usize = 3;
+
+/// A hole `[0, b)` at the left border read as a depthless occluder `[end, b)` (raw value `at`)
+/// and its attached shadow `[0, end)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct BorderSplit {
+    b: u16,
+    end: u16,
+    at: u16,
+}
+
+impl BorderSplit {
+    /// Labels the shadow of row `v` (its OTHER pixels) and gives the occluder its depth.
+    pub(super) fn apply(self, v: usize, labels: &mut [u8], filled: &mut [u16]) {
+        let (row, end, b) = (v * WIDTH, usize::from(self.end), usize::from(self.b));
+        relabel(&mut labels[row..row + end], OTHER, ATTACHED);
+        filled[row + end..row + b].fill(self.at);
+    }
+}
+
+impl ColourSplit {
+    /// For the hole `[0, b)` of row `v` at the left border: where its attached shadow ends (the
+    /// occluder's left edge) and the occluder's raw value, when the hole is a depthless occluder
+    /// and its shadow running off the border (see the module's docs).
+    pub(super) fn left_border_attached(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        v: usize,
+        b: usize,
+        range: Range,
+    ) -> Option<BorderSplit> {
+        let row = &raw[v * WIDTH..(v + 1) * WIDTH];
+        if b < 2 * MIN_HOLE || b + SPREAD_SPAN > WIDTH {
+            return None;
+        }
+        let bg = row[b];
+        let leaves = self.wall_leaves_range(raw, v, bg, b..b + SLOPE_SPAN, true, range);
+        if bg == NO_DEPTH || leaves != Some(false) {
+            return None;
+        }
+        let d_bg = self.disp(bg);
+        let widest = self.widest(bg);
+        // A surface beside the hole, not the sensor's noise: a few pixels of one (between an
+        // occluder and the next hole the wall may show only as wide as the RGB strip).
+        let on_wall = |r: u16| r != NO_DEPTH && (self.disp(r) - d_bg).abs() <= SAME_SURFACE;
+        let run = row[b..b + SPREAD_SPAN]
+            .iter()
+            .take_while(|&&r| on_wall(r))
+            .count();
+        if run < MIN_SURFACE {
+            return None;
+        }
+        let wall = self.mean_colour(rgb, v, b..b + run.min(SIDE), bg)?;
+        // A patterned wall's stripes are no occluder: the step rises to the wall's own spread
+        // (over the surface's own run: a nearer object beside it is no part of its pattern).
+        let spread = self.wall_spread(rgb, v, b..b + run, bg, wall);
+        let base = self.dimmed(COLOUR_STEP, wall);
+        let step = base.max(spread * SPREAD_NUM / 2);
+        // Past four times the plain step the pattern itself holds colours as far apart as a
+        // wall's and an occluder's (a patterned box beside the hole): nothing reads against it.
+        if step > 4 * base {
+            return None;
+        }
+        let is_wall = |u: usize| self.probe(rgb, u, v, bg).map(|p| hue_dist(p, wall) < step);
+        // From the hole's right end leftwards: the strip, the occluder, the shadow.
+        let strip = (0..b)
+            .rev()
+            .take_while(|&u| is_wall(u) == Some(true))
+            .count();
+        if strip < MIN_STRIP || 3 * strip > widest + 3 {
+            return None;
+        }
+        let occluder_end = b - strip;
+        // The shadow from the border on: the wall's colour up to the occluder's left edge,
+        // read from this side (a round occluder's shaded face may match a dark wall in places).
+        let mut seen = 0;
+        let mut occluder_start = None;
+        for u in 0..occluder_end {
+            match is_wall(u) {
+                Some(true) => seen += 1,
+                Some(false) => {
+                    occluder_start = Some(u);
+                    break;
+                }
+                None => {}
+            }
+        }
+        let occluder_start = occluder_start?;
+        if seen < MIN_STRIP || occluder_end - occluder_start < MIN_HOLE {
+            return None;
+        }
+        // An edge, then mostly occluder.
+        let unlike = (occluder_start..occluder_end)
+            .filter(|&u| is_wall(u) == Some(false))
+            .count();
+        if (occluder_start..occluder_start + EDGE).any(|u| is_wall(u) != Some(false))
+            || 2 * unlike < occluder_end - occluder_start
+        {
+            return None;
+        }
+        // The shift that moves the occluder's right edge (IR column `b`) onto the strip's start;
+        // its left edge moves as far, which puts it in the IR image.
+        let x_at = |u: usize, raw: u16| self.project(u as f64 - 0.5, v, raw).0;
+        let x_strip = x_at(occluder_end, bg);
+        let shift = (MIN_STRIP..=widest).min_by(|&s, &t| {
+            let off = |s: usize| (x_at(b, self.raw_at_disp(d_bg + s as f64)) - x_strip).abs();
+            off(s).total_cmp(&off(t))
+        })?;
+        let at = self.raw_at_disp(d_bg + shift as f64);
+        let x_left = x_at(occluder_start, bg);
+        let end = (occluder_start..b).find(|&u| x_at(u, at) >= x_left)?;
+        // The visible part is no wider than the whole shadow (one column of the strip is about
+        // three pixels of shift, the sensor widens the shadow's far end).
+        if end > shift + 3 + self.widen.ceil() as usize {
+            return None;
+        }
+        // The column through the shadow's middle, above and below the hole: nothing measured on
+        // either side, or a surface no nearer than the one right of the hole on one of them.
+        let at_middle = |w: usize| Some(raw[w * WIDTH + end / 2]).filter(|&r| r != NO_DEPTH);
+        let up = (0..v).rev().find_map(at_middle);
+        let down = (v + 1..HEIGHT).find_map(at_middle);
+        let behind = |r: Option<u16>| r.is_some_and(|r| self.disp(r) <= d_bg + SAME_SURFACE);
+        if up.is_some() != down.is_some() || (up.is_some() && !behind(up) && !behind(down)) {
+            return None;
+        }
+        self.solid(raw, v, (0, b)).then_some(BorderSplit {
+            b: b as u16,
+            end: end as u16,
+            at,
+        })
+    }
+
+    /// Whether a row within two of `v` reads its left-border hole alike (the occluder's edge
+    /// within [`ENDS_AGREE`] of `split`'s): an occluder is a solid; a wall beyond the range, or
+    /// a surface's pattern, gives such a reading in a row here and there.
+    pub(super) fn border_agreed(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        v: usize,
+        split: BorderSplit,
+        range: Range,
+    ) -> bool {
+        let alike = |s: Option<BorderSplit>| {
+            s.is_some_and(|s| usize::from(s.end).abs_diff(usize::from(split.end)) <= ENDS_AGREE)
+        };
+        // Rows above were read already; rows below are read now.
+        let read = |w: usize| {
+            let row = &raw[w * WIDTH..(w + 1) * WIDTH];
+            (row[0] == NO_DEPTH)
+                .then(|| {
+                    let b = span_end(&self.masks[w], row, 0);
+                    self.left_border_attached(raw, rgb, w, b, range)
+                })
+                .flatten()
+        };
+        (1..=2).any(|k| v >= k && alike(self.border_read[v - k]))
+            || (1..=2).any(|k| v + k < HEIGHT - 1 && alike(read(v + k)))
+    }
+
+    /// Rows between two that read their left-border hole as an occluder and its shadow (at most
+    /// [`BRIDGE_ROWS`] apart, the hole's end within [`ENDS_AGREE`] of theirs) take the nearer
+    /// one's reading: the vertical consensus would label their shadow anyway, and without the
+    /// occluder's depth the warp would show all of it in the RGB view, where the occluder
+    /// hides a third of it.
+    pub(super) fn bridge_left_border(&self, raw: &[u16], labels: &mut [u8], filled: &mut [u16]) {
+        for v in 1..HEIGHT - 1 {
+            let row = &raw[v * WIDTH..(v + 1) * WIDTH];
+            if self.border[v].is_some() || row[0] != NO_DEPTH {
+                continue;
+            }
+            let b = span_end(&self.masks[v], row, 0);
+            let near = |w: Option<usize>| {
+                let s = self.border[w?]?;
+                (usize::from(s.b).abs_diff(b) <= ENDS_AGREE && usize::from(s.end) < b).then_some(s)
+            };
+            let above = (1..=BRIDGE_ROWS).find_map(|k| near(v.checked_sub(k)).map(|s| (k, s)));
+            let below = (1..=BRIDGE_ROWS)
+                .find_map(|k| near((v + k < HEIGHT).then_some(v + k)).map(|s| (k, s)));
+            if let (Some((ka, sa)), Some((kb, sb))) = (above, below) {
+                let s = if ka <= kb { sa } else { sb };
+                BorderSplit { b: b as u16, ..s }.apply(v, labels, filled);
+            }
+        }
+    }
+}
