@@ -97,7 +97,8 @@ impl ColourSplit {
             .iter()
             .take_while(|&&r| on_wall(r))
             .count();
-        if run < MIN_SURFACE {
+        // (The depth tests before the colour ones: they are cheaper, and most holes fail them.)
+        if run < MIN_SURFACE || !self.solid(raw, v, (0, b)) {
             return None;
         }
         let wall = self.mean_colour(rgb, v, b..b + run.min(SIDE), bg)?;
@@ -123,9 +124,12 @@ impl ColourSplit {
         let occluder_end = b - strip;
         // The shadow from the border on: the wall's colour up to the occluder's left edge,
         // read from this side (a round occluder's shaded face may match a dark wall in places).
+        // (No further than the widest shadow the strip allows: one column of it is about three
+        // pixels of shift.)
+        let reach = occluder_end.min(3 * (strip + 1) + 4 + self.widen.ceil() as usize);
         let mut seen = 0;
         let mut occluder_start = None;
-        for u in 0..occluder_end {
+        for u in 0..reach {
             match is_wall(u) {
                 Some(true) => seen += 1,
                 Some(false) => {
@@ -139,13 +143,24 @@ impl ColourSplit {
         if seen < MIN_STRIP || occluder_end - occluder_start < MIN_HOLE {
             return None;
         }
-        // An edge, then mostly occluder.
-        let unlike = (occluder_start..occluder_end)
-            .filter(|&u| is_wall(u) == Some(false))
-            .count();
-        if (occluder_start..occluder_start + EDGE).any(|u| is_wall(u) != Some(false))
-            || 2 * unlike < occluder_end - occluder_start
-        {
+        // An edge, then mostly occluder (read until that is decided: a black sphere near the
+        // camera spans hundreds of columns).
+        if (occluder_start..occluder_start + EDGE).any(|u| is_wall(u) != Some(false)) {
+            return None;
+        }
+        let half = (occluder_end - occluder_start).div_ceil(2);
+        let (mut unlike, mut other) = (0, 0);
+        for u in occluder_start..occluder_end {
+            if is_wall(u) == Some(false) {
+                unlike += 1;
+            } else {
+                other += 1;
+            }
+            if unlike >= half || other > occluder_end - occluder_start - half {
+                break;
+            }
+        }
+        if unlike < half {
             return None;
         }
         // The shift that moves the occluder's right edge (IR column `b`) onto the strip's start;
@@ -173,7 +188,7 @@ impl ColourSplit {
         if up.is_some() != down.is_some() || (up.is_some() && !behind(up) && !behind(down)) {
             return None;
         }
-        self.solid(raw, v, (0, b)).then_some(BorderSplit {
+        Some(BorderSplit {
             b: b as u16,
             end: end as u16,
             at,
