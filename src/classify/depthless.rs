@@ -415,24 +415,32 @@ impl ColourSplit {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
-                if self.shadow_beside_patch(raw, rgb, labels, v, (a, b)) {
+                // A shadow beside a patch without depth leaves the patch's part of the hole to
+                // the colour split below: a depthless occluder's own shadow may lie left of it.
+                let patched = self.shadow_beside_patch(raw, rgb, labels, v, (a, b));
+                if !patched && self.dropout_pair(raw, rgb, labels, filled, v, (a, b)) {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
-                if self.dropout_pair(raw, rgb, labels, filled, v, (a, b)) {
+                if !patched
+                    && self.detached_pair(raw, rgb, labels, filled, &mut prefix.recent, v, (a, b))
+                {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
-                if self.detached_pair(raw, rgb, labels, filled, &mut prefix.recent, v, (a, b)) {
-                    u = mask.next_hole(b.max(u + 1));
-                    continue;
-                }
-                if a >= off_image_from && self.off_image_detached(raw, rgb, v, (a, b), seen_to) {
+                if !patched
+                    && a >= off_image_from
+                    && self.off_image_detached(raw, rgb, v, (a, b), seen_to)
+                {
                     relabel(&mut labels[v * WIDTH + a..v * WIDTH + b], OTHER, DETACHED);
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
-                if b == WIDTH && !dead_band && self.off_image_attached(raw, rgb, v, (a, b), range) {
+                if !patched
+                    && b == WIDTH
+                    && !dead_band
+                    && self.off_image_attached(raw, rgb, v, (a, b), range)
+                {
                     // Where the wall beside it leaves the range, so does the shadow.
                     let (done, rest) = labels.split_at_mut(v * WIDTH);
                     let labels_row = &mut rest[..WIDTH];
@@ -454,7 +462,7 @@ impl ColourSplit {
                 }
                 // A hole from the left border has no background on its left for the reading
                 // below: a depthless occluder's strip of wall on its right tells its shift.
-                if a == 0 {
+                if a == 0 && !patched {
                     let split = self.left_border_attached(raw, rgb, v, b, range);
                     self.border_read[v] = split;
                     if let Some(split) =
@@ -510,7 +518,12 @@ impl ColourSplit {
                             Some((c, self.agreed_split(raw, rgb, labels, v, c, &mut prefix)?))
                         })
                     })
-                    .flatten();
+                    .flatten()
+                    // Left of a shadow found beside a patch, the occluder ends where that shadow
+                    // starts: an attached shadow's occluder is at least as wide as its shift
+                    // (narrower, and the shadow is detached: a glossy rod's, before another
+                    // object's shadow).
+                    .filter(|&(c, (s, shift))| !patched || c.b >= c.a + s + shift);
                 if split.is_none() {
                     // No shadow to split off, but an occluder's depth still places it in the RGB
                     // view, with the alignment shadow right of it. A rod narrower than MIN_HOLE

@@ -10,6 +10,11 @@
 //! colour over the shadow, which may be Sa's too (walls painted alike): so the same shadow must
 //! also show plainly, Sb's attached shadow on Sa's surface, in a row above or below the patch.
 //! (Without that, this project's seed 5150 lost 0.004 IR attached F1 to such walls.)
+//! A round Sb (a sphere) hides more of the wall from the RGB camera than its edge at Sb's depth
+//! says, its nearer middle standing out past the limb: the first columns read may still show
+//! it. A lit island inside the part read is a gap between two shadows (a rod's detached one
+//! left of Sb's): no reading. The part of the hole left of the shadow is then read by the
+//! colour split like any other hole (a depthless occluder's own shadow may lie there).
 
 use super::{hue_dist, relabel, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE};
 use crate::labels::{ATTACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
@@ -76,9 +81,15 @@ impl ColourSplit {
             self.probe(rgb, x, v, sa)
                 .map_or(u32::MAX, |c| hue_dist(c, wall))
         };
-        if far(u) > agree {
+        // A round occluder's outline as the RGB camera sees it lies further left than its edge
+        // at Sb's depth puts it (its nearer middle hides more of the wall): skip up to a third
+        // of the shadow of it.
+        let Some(u) = (0..=(w / 3.0) as usize)
+            .map_while(|k| u.checked_sub(k).filter(|&x| x > a))
+            .find(|&x| far(x) <= agree)
+        else {
             return false;
-        }
+        };
         let mut c = u;
         while c > a && far(c - 1) <= agree {
             c -= 1;
@@ -90,6 +101,10 @@ impl ColourSplit {
         }
         let patch = (a..c - BLEND).map(|x| far(x).min(4 * step)).sum::<u32>();
         if patch < step * (c - BLEND - a) as u32 {
+            return false;
+        }
+        // A lit island inside is a gap between two shadows: Sb's ends there.
+        if raw[row + c..row + b].iter().any(|&r| r != NO_DEPTH) {
             return false;
         }
         // The widening moves the shadow's left end further left, never right.
