@@ -111,6 +111,9 @@ const PALETTE: usize = 16;
 /// occluder a third of its shift left of its hole, over the wall there (a black rod crossing a
 /// wall put its own colour into the palette, and the black box beside it was called wall).
 const PALETTE_CLEAR: usize = 12;
+/// Columns of the background's own colour a closed hole read as an open one must show before
+/// its wall's palette counts ([`ColourSplit::wall_palette`]).
+const PLAIN_FIRST: usize = 3;
 /// Valid runs this short inside a hole are noise, stepped over.
 const MAX_ISLAND: usize = 2;
 /// The occluder's left edge (hole start plus shadow width) may move by this much (pixels) from
@@ -1412,9 +1415,13 @@ impl ColourSplit {
         // the pattern's next patch unless columns showing a colour the wall itself shows left of
         // the hole (within half a step of one of a few samples) count as wall, up to the first
         // column unlike the wall and all of its colours: the occluder, past which the RGB camera
-        // may see the wall's other colours again. Not for a closed hole read as an open one
-        // (its sides differ in hue or light, and the other side's hue is no occluder either:
-        // read so, a rod's shadow on a wall of two hues came out 3 px too wide).
+        // may see the wall's other colours again. A closed hole read as an open one (its sides
+        // differ in hue or light) must first show the background's own colour over three
+        // columns: a rod's shadow lying on a wall's other hue from its first column was all
+        // excused so, and came out 3 px too wide (the sensor's widening of its left end then
+        // reads as a larger shift); over three columns the shadow's start is read plainly.
+        // (The fourth simulator: complex IR attached F1 +0.016 summed over 28 suites, j6
+        // +0.0064, j1r +0.0037; this project's suites unchanged.)
         // (Read once, and only when a column strays from the background by a step.)
         let palette = std::cell::OnceCell::new();
         let occluder_seen = std::cell::Cell::new(false);
@@ -1424,10 +1431,16 @@ impl ColourSplit {
         } else {
             step
         };
+        // Columns so far within the step of the background.
+        let plain_seen = std::cell::Cell::new(0usize);
         let dist = |k: usize| {
             let p = colour(k);
             let d = hue_dist(p, bg);
-            if d < col_step || c.closed || c.opened || occluder_seen.get() {
+            if d < col_step {
+                plain_seen.set(plain_seen.get() + 1);
+                return d;
+            }
+            if c.closed || (c.opened && plain_seen.get() < PLAIN_FIRST) || occluder_seen.get() {
                 return d;
             }
             let Some(w) = wall.clone() else {
