@@ -527,7 +527,8 @@ impl ColourSplit {
                     // (narrower, and the shadow is detached: a glossy rod's, before another
                     // object's shadow).
                     .filter(|&(c, (s, shift))| !patched || c.b >= c.a + s + shift);
-                if split.is_none() {
+                // (Beside a patch the hole's right end is Sb's shadow, no occluder's edge.)
+                if split.is_none() && !patched {
                     // No shadow to split off, but an occluder's depth still places it in the RGB
                     // view, with the alignment shadow right of it. A rod narrower than MIN_HOLE
                     // the scanline paired with its shadow is placed already, by a sharper reading.
@@ -555,7 +556,7 @@ impl ColourSplit {
                     // left; the same simulator, 27 against 17–21 px). A closed candidate's
                     // right edge is read too: a box turned away has it farther than its left
                     // (down to half the shift).
-                    let edge = (c.closed || c.b < b)
+                    let edge = (c.closed || (c.b < b && !patched))
                         .then(|| self.agreed_right_edge(raw, rgb, labels, v, (a, b), &mut prefix))
                         .flatten()
                         .filter(|&t| {

@@ -83,9 +83,10 @@ impl ColourSplit {
         if b < 2 * MIN_HOLE || b + SPREAD_SPAN > WIDTH {
             return None;
         }
+        // (A hole ends at a valid pixel, or at the border, which `b` is short of.)
         let bg = row[b];
-        let leaves = self.wall_leaves_range(raw, v, bg, b..b + SLOPE_SPAN, true, range);
-        if bg == NO_DEPTH || leaves != Some(false) {
+        let beside = b..(b + SLOPE_SPAN).min(WIDTH);
+        if self.wall_leaves_range(raw, v, bg, beside, true, range) != Some(false) {
             return None;
         }
         let d_bg = self.disp(bg);

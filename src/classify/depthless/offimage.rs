@@ -37,7 +37,7 @@ use crate::labels::{HEIGHT, NO_DEPTH, WIDTH};
 /// Narrowest hole considered (pixels): single-pixel holes are speckle.
 const MIN_WIDTH: usize = 2;
 /// Raw units under the frame's farthest value within which a wall may be at the range's end.
-pub(super) const NEAR_FAR: u16 = 3;
+const NEAR_FAR: u16 = 3;
 /// Pixels over which a wall's slope towards the range's end is read.
 pub(super) const SLOPE_SPAN: usize = 64;
 /// Raw units per pixel past which a wall recedes towards the range's end. In an independent
