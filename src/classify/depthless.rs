@@ -946,9 +946,14 @@ impl ColourSplit {
         // before a magenta checker whose bright squares clip, in an independent simulator's
         // simple scenes: IR attached F1 +0.019 on j4, +0.006 and +0.005 on two more, complex
         // +0.013 summed over its 28 suites; this project's suites unchanged). The cheap
-        // necessary test first: the wall's spread is at least the sides' difference.
+        // necessary test first: the wall's spread is at least the sides' difference. Under
+        // twice, the occluder must also lie beyond the other side (the real frame's shelf: a
+        // pale box between two dark sides was split; that simulator's j15 −0.0019, j7
+        // +0.0007).
         let (sides, middle) = (hue_dist(l, r), hue_dist(m, l));
-        if 2 * middle < 3 * sides {
+        // Under twice, beyond the other side too: a colour between the two is more of the
+        // pattern (or of clutter between dark sides: a pale box in the real frame's shelf).
+        if 2 * middle < 3 * sides || (middle < 2 * sides && hue_dist(m, r) < sides) {
             return false;
         }
         let spread = self.wall_spread(rgb, v, start..end, bg, l);
