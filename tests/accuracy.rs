@@ -412,12 +412,7 @@ fn slanted_detached_shadow_of_a_rod_beyond_the_right_border_is_told_by_colour() 
 /// 0.6 m tall (rows 65 to 415 or so), before a wall at 3 m. (Were it as tall as the view, its
 /// shadow would end every row in a hole as a real sensor's dead band does, and be left alone.)
 fn panel_beyond_the_right_border(x_edge: f64) -> Scene {
-    let mut scene = Scene::new("panel beyond the right border");
-    scene.push(
-        "wall",
-        umbra::synth::scene::wall(3.0),
-        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
-    );
+    let mut scene = before_a_pale_wall("panel beyond the right border");
     push_box(
         &mut scene,
         "panel",
@@ -475,12 +470,7 @@ fn attached_shadow_of_a_panel_beyond_the_right_border_is_told_by_colour() {
 fn black_box_at_the_left_border(u_left: f64) -> Scene {
     let calib = Calibration::nyu_default();
     let x_left = (u_left - calib.depth.cx) / calib.depth.fx;
-    let mut scene = Scene::new("black box at the left border");
-    scene.push(
-        "wall",
-        umbra::synth::scene::wall(3.0),
-        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
-    );
+    let mut scene = before_a_pale_wall("black box at the left border");
     push_black_box(
         &mut scene,
         "box",
@@ -535,12 +525,7 @@ fn black_poster_at_the_left_border_casts_no_shadow_from_colour() {
     // right edge, where the RGB camera sees it too (it lies on the wall: no strip of wall right
     // of it). No shadow.
     let calib = Calibration::nyu_default();
-    let mut scene = Scene::new("black poster at the left border");
-    scene.push(
-        "wall",
-        umbra::synth::scene::wall(3.0),
-        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
-    );
+    let mut scene = before_a_pale_wall("black poster at the left border");
     push_black_box(&mut scene, "poster", [-1.5, 0.0, 2.995], [0.6, 0.9, 0.005]);
     for seed in 40..42 {
         let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
@@ -978,12 +963,7 @@ fn sphere_shadow_beside_a_black_poster_is_attached_where_the_rgb_camera_sees_the
     // wall shows only some columns further left, then the poster.
     // Measured: in the poster's rows, attached recall 0.901 → 0.967 (none wrong) once those
     // columns of outline are skipped.
-    let mut scene = Scene::new("sphere beside a black poster");
-    scene.push(
-        "wall",
-        umbra::synth::scene::wall(3.0),
-        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
-    );
+    let mut scene = before_a_pale_wall("sphere beside a black poster");
     scene.push(
         "sphere",
         umbra::synth::Shape::Sphere {
@@ -1099,6 +1079,18 @@ fn black_poster_inside_a_box_shadow_is_other_where_the_rgb_camera_sees_it() {
 /// at `centre` with half extents `half` (metres).
 fn push_black_box(scene: &mut Scene, name: &'static str, centre: [f64; 3], half: [f64; 3]) {
     push_box(scene, name, centre, half, umbra::synth::Material::black());
+}
+
+/// A scene of `description` holding only a pale matte wall at 3 m, for the objects to stand
+/// before.
+fn before_a_pale_wall(description: &str) -> Scene {
+    let mut scene = Scene::new(description);
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(3.0),
+        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
+    );
+    scene
 }
 
 /// An upright box of `material` (centre and half-extents in metres, not turned).
@@ -2579,12 +2571,7 @@ fn black_panel_across_the_right_border_and_the_whole_height_keeps_its_shadow() {
     // such holes as a wall leaving the range, tried on 2026-12-04, lost all of it under a
     // noise-free sensor.) Measured: attached F1 0.967 (precision 0.939: the split's edge a pixel
     // or two into the panel's hole).
-    let mut scene = Scene::new("black panel across the right border");
-    scene.push(
-        "wall",
-        umbra::synth::scene::wall(3.0),
-        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
-    );
+    let mut scene = before_a_pale_wall("black panel across the right border");
     push_black_box(&mut scene, "panel", [0.8, 0.0, 1.05], [0.5, 3.0, 0.05]);
     let (_, with_rgb) = with_and_without_colour(&scene, 90..93, false, |frame| {
         let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
@@ -2652,12 +2639,7 @@ fn black_box_at_the_right_border_keeps_its_shadow_across_a_striped_wall() {
 /// A black pipe (r = 1.5 cm, `2·half_len` long) centred at 1 m before a wall at 3 m, its axis
 /// rising `slope` per unit across: its edge moves 1/slope px a row.
 fn black_pipe_before_wall(slope: f64, half_len: f64) -> Scene {
-    let mut scene = Scene::new("black pipe slanting before a wall");
-    scene.push(
-        "wall",
-        umbra::synth::scene::wall(3.0),
-        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
-    );
+    let mut scene = before_a_pale_wall("black pipe slanting before a wall");
     scene.push(
         "pipe",
         umbra::synth::Shape::Cylinder {

@@ -230,6 +230,10 @@ impl ColourSplit {
     /// occluder's depth the warp would show all of it in the RGB view, where the occluder
     /// hides a third of it.
     pub(super) fn bridge_left_border(&self, raw: &[u16], labels: &mut [u8], filled: &mut [u16]) {
+        // Most frames hold no reading at all: nothing to bridge.
+        if self.border.iter().all(Option::is_none) {
+            return;
+        }
         for v in 1..HEIGHT - 1 {
             let row = &raw[v * WIDTH..(v + 1) * WIDTH];
             if self.border[v].is_some() || row[0] != NO_DEPTH {
