@@ -850,7 +850,7 @@ fn classify_bounded(
             return;
         }
         if labels[h.start] == OTHER {
-            hidden_background(p, raw, h, sa, sb, above, rows, labels, filled);
+            hidden_background(p, raw, h, sa, sb, (above, range), rows, labels, filled);
         } else if let Some(bg) = behind_thin_sa(p, raw, h, sa, sb, w, above) {
             place(filled, raw, h, bg);
         }
@@ -896,7 +896,7 @@ fn classify_bounded(
                 label_attached(p, raw, h, w, rows, labels);
             }
             if labels[h.start] == OTHER {
-                hidden_background(p, raw, h, sa, sb, above, rows, labels, filled);
+                hidden_background(p, raw, h, sa, sb, (above, range), rows, labels, filled);
             }
         }
         Detached::Measured => set(labels, raw, h.start, h.end, DETACHED),
@@ -944,6 +944,43 @@ fn farthest_above(above: &[u16], h: Run) -> Option<u16> {
         .copied()
         .filter(|&r| r != NO_DEPTH)
         .max()
+}
+
+/// The background below a hole with nothing measured above it (a gap between two objects from
+/// the frame's top): the farthest of the first valid raw values below its columns (`below`:
+/// whole rows), read in every fourth column and the last. Only where Sb's own column ends there
+/// too: the shadow stops where its occluder does (a few rows later, the shadow of the
+/// occluder's lower face), whereas a surface that appears while Sb goes on is no background the
+/// hole hides (a box's top far below a region beyond range). Nor is a floor whose surface,
+/// carried up to this row along its slope, passes the frame's range.
+fn background_below(p: &ScanParams, below: &[u16], h: Run, sb: Bound, range: Range) -> Option<u16> {
+    // Rows the shadow of the occluder's lower face may run on past its end.
+    const FOOT_ROWS: usize = 16;
+    let mut farthest: Option<(u16, usize)> = None;
+    for col in (h.start..h.end)
+        .step_by(4)
+        .chain(std::iter::once(h.end - 1))
+    {
+        if let Some((k, r, slope)) = first_valid_below(below, col) {
+            if along(r, slope, k + 1) > f32::from(range.far) + 0.5 {
+                return None;
+            }
+            if farthest.is_none_or(|(f, _)| r > f) {
+                farthest = Some((r, k));
+            }
+        }
+    }
+    let (bg, at) = farthest?;
+    // Inside Sb, clear of the widening that moves its edge from row to row.
+    let col = (h.end + 2).min(WIDTH - 1);
+    let d_sb = p.disp(sb.edge);
+    let sb_end = below
+        .iter()
+        .skip(col)
+        .step_by(WIDTH)
+        .position(|&r| r == NO_DEPTH || (p.disp(r) - d_sb).abs() >= 2.0 * p.min_step)
+        .unwrap_or(below.len() / WIDTH);
+    (sb_end <= at && at <= sb_end + FOOT_ROWS).then_some(bg)
 }
 
 /// The background disparity the detached test uses for a hole between `sa` and `sb`.
@@ -994,7 +1031,7 @@ fn hidden_background(
     h: Run,
     sa: Bound,
     sb: Bound,
-    above: &[u16],
+    (above, range): (&[u16], Range),
     rows: Rows,
     labels: &mut [u8],
     filled: &mut [u16],
@@ -1018,7 +1055,12 @@ fn hidden_background(
                 .all(|&a| a == NO_DEPTH || on(a, sa.edge));
         !edge_only
     });
-    let Some(bg) = from_above.or_else(|| beside_thin_sa(p, raw, h, sa, labels)) else {
+    // Where nothing was ever measured above (a gap between two objects from the frame's top),
+    // the background below the gap, where it shows past the shorter object's end.
+    let Some(bg) = from_above
+        .or_else(|| beside_thin_sa(p, raw, h, sa, labels))
+        .or_else(|| background_below(p, rows.down, h, sb, range))
+    else {
         return;
     };
     // Sa must lie before the background, else nothing hides part of the shadow.
