@@ -798,9 +798,10 @@ fn gap_between_two_objects_from_the_frames_top_holds_the_farther_ones_shadow() {
     // at 3 m is f·b·(1/1.2 − 1/3) = 21.8 px wide, more than the 14 px gap: the whole gap is the
     // board's attached shadow, on a background nothing above shows (both objects reach the top)
     // and the panel, nearer than the board, hides from eq. (3). The wall shows below the board's
-    // end, in the gap's own columns. Measured: attached recall in the gap 0.494 → 0.972 (with
+    // end, in the gap's own columns. Measured: attached recall in the gap 0.494 → 0.9995 (with
     // the ideal sensor 0 before: the Kinect model's stray edge pixels had given the old rule a
-    // background above in most rows).
+    // background above in most rows; 0.972 while a pixel of the board's edge, mixed with the
+    // wall, still stood for the background in the others).
     let calib = Calibration::nyu_default();
     let shift = calib.fb() * (1.0 / 1.2 - 1.0 / 3.0);
     assert!(shift > 14.0 + 3.0, "{shift}");
@@ -835,7 +836,7 @@ fn gap_between_two_objects_from_the_frames_top_holds_the_farther_ones_shadow() {
         }
     }
     let recall = found as f64 / truth as f64;
-    assert!(recall > 0.95, "attached recall in the gap {recall:.3}");
+    assert!(recall > 0.99, "attached recall in the gap {recall:.3}");
     assert!(wrong < truth / 50, "{wrong} px claimed attached elsewhere");
 }
 

@@ -971,14 +971,14 @@ fn background_below(p: &ScanParams, below: &[u16], h: Run, sb: Bound, range: Ran
         }
     }
     let (bg, at) = farthest?;
-    // Inside Sb, clear of the widening that moves its edge from row to row.
-    let col = (h.end + 2).min(WIDTH - 1);
-    let d_sb = p.disp(sb.edge);
+    // Sb's first columns: the widening moves its edge from row to row, so Sb ends in the first
+    // row where none of them shows it.
+    let cols = h.end..(h.end + 4).min(WIDTH);
+    let d_sb = p.disp(sb.near);
+    let on_sb = |r: u16| r != NO_DEPTH && (p.disp(r) - d_sb).abs() < 2.0 * p.min_step;
     let sb_end = below
-        .iter()
-        .skip(col)
-        .step_by(WIDTH)
-        .position(|&r| r == NO_DEPTH || (p.disp(r) - d_sb).abs() >= 2.0 * p.min_step)
+        .chunks_exact(WIDTH)
+        .position(|row| !row[cols.clone()].iter().any(|&r| on_sb(r)))
         .unwrap_or(below.len() / WIDTH);
     (sb_end <= at && at <= sb_end + FOOT_ROWS).then_some(bg)
 }
@@ -1055,26 +1055,48 @@ fn hidden_background(
                 .all(|&a| a == NO_DEPTH || on(a, sa.edge));
         !edge_only
     });
-    // Where nothing was ever measured above (a gap between two objects from the frame's top),
-    // the background below the gap, where it shows past the shorter object's end.
-    let Some(bg) = from_above
-        .or_else(|| beside_thin_sa(p, raw, h, sa, labels))
-        .or_else(|| background_below(p, rows.down, h, sb, range))
+    // Sb itself above: the overhang's hole, no shadow.
+    if from_above.is_some_and(|r| (p.disp(r) - p.disp(sb.near)).abs() < p.min_step) {
+        return;
+    }
+    // Sb's shadow on `bg` (eq. 3), if Sa lies before it (else nothing hides part of the shadow)
+    // and it is no narrower than the hole.
+    let width = (h.end - h.start) as f32;
+    let fits = |bg: u16| {
+        let w = p.disp(sb.near) - p.disp(bg);
+        let hidden = p.disp(sa.near) - p.disp(bg) >= p.min_step;
+        (hidden && w >= p.min_step && width <= w + p.over).then_some((bg, w))
+    };
+    // Where nothing was measured above: the row's own background left of a thin Sa, or (a gap
+    // between two objects from the frame's top) the background below the gap, where it shows
+    // past the shorter object's end. The latter also stands in for a value above a little
+    // behind Sb that does not fit: a pixel of Sb's edge mixed with the background, from a row
+    // where the hole was narrower (j24 s017, two cylinders).
+    let mixed =
+        from_above.is_some_and(|r| (0.0..MIXED_PX).contains(&(p.disp(sb.near) - p.disp(r))));
+    let Some((bg, w)) = from_above
+        .and_then(fits)
+        .or_else(|| {
+            from_above
+                .is_none()
+                .then(|| beside_thin_sa(p, raw, h, sa, labels))
+                .flatten()
+                .and_then(fits)
+        })
+        .or_else(|| {
+            (from_above.is_none() || mixed)
+                .then(|| background_below(p, rows.down, h, sb, range))
+                .flatten()
+                .and_then(fits)
+        })
     else {
         return;
     };
-    // Sa must lie before the background, else nothing hides part of the shadow.
-    if p.disp(sa.near) - p.disp(bg) < p.min_step {
-        return;
-    }
-    let w = p.disp(sb.near) - p.disp(bg);
-    if w >= p.min_step && (h.end - h.start) as f32 <= w + p.over {
-        label_attached(p, raw, h, w, rows, labels);
-        // The shadow lies on the background, not on Sa (`fill` keeps the first value).
-        for (f, &r) in filled[h.start..h.end].iter_mut().zip(&raw[h.start..h.end]) {
-            if r == NO_DEPTH {
-                *f = bg;
-            }
+    label_attached(p, raw, h, w, rows, labels);
+    // The shadow lies on the background, not on Sa (`fill` keeps the first value).
+    for (f, &r) in filled[h.start..h.end].iter_mut().zip(&raw[h.start..h.end]) {
+        if r == NO_DEPTH {
+            *f = bg;
         }
     }
 }
@@ -1155,6 +1177,10 @@ fn sa_run(p: &ScanParams, raw: &[u16], h: Run, sa: Bound) -> usize {
 
 /// Widest object (pixels) [`behind_thin_sa`] takes for a thin one: a rod of 4 cm at 0.65 m.
 const THIN_SA: usize = 36;
+
+/// Disparity (pixels) within which a value behind Sb in the column memory above a hole may be a
+/// pixel mixing Sb's edge with what lies behind it, from a row where the hole was narrower.
+const MIXED_PX: f32 = 3.0;
 
 /// How far the sensor's correlation window moves each end of a shadow beyond its geometric place
 /// (pixels; real frames: about 2.3 px in all, SPEC §1).
