@@ -1936,30 +1936,52 @@ fn depthless_occluder(
     if chained_left || chained_right {
         return Detached::No;
     }
-    let repeats = |row: &[u16]| {
+    // Whether `row` repeats the pair, and whether only with the occluder's hole run on.
+    let repeats_how = |row: &[u16]| -> (bool, bool) {
         // The same pair in a neighbouring row: holes through both centres, shifted alike (the
         // widening moves each row's shadow end by 0–3 px).
         let (Some(s), Some(o)) = (
             hole_around(row, (h.start + h.end) / 2),
             hole_around(row, (occluder.start + occluder.end) / 2),
         ) else {
-            return false;
+            return (false, false);
         };
         if s.start == o.start {
             // One hole through both: the widening swallowed a lit gap of a pixel or two there.
             // It must span the same shadow and occluder, on the same background.
-            return s.start > 0
+            let same = s.start > 0
                 && s.end < row.len()
                 && (s.start as f32 - h.start as f32).abs() <= WIDENING
                 && s.end.abs_diff(occluder.end) <= 1
                 && p.on_background(row[s.start - 1], d_bg)
                 && p.on_background(row[s.end], d_bg);
+            return (same, false);
         }
-        s.end < o.start
-            && hole_pair(p, row, s, o.start, d_bg)
-                .is_some_and(|(w, _)| (w - shift).abs() <= WIDENING)
+        if s.end >= o.start {
+            return (false, false);
+        }
+        if hole_pair(p, row, s, o.start, d_bg).is_some_and(|(w, _)| (w - shift).abs() <= WIDENING) {
+            return (true, false);
+        }
+        // The occluder's hole running on into the next hole (the lit gap after it closed in
+        // that row: a glossy rod beside a black cylinder): the same shadow, with the lit gap and
+        // the occluder's left edge in place, still repeats the pair, in one of the two rows, if
+        // this row's shadow is as wide as its occluder but for the widening (not merely within
+        // eq. (3)'s tolerance: holes in clutter on a real frame).
+        let run_on = o.end > occluder.end + 1
+            && h.end - h.start <= occluder.end - occluder.start + WIDENING as usize + 1
+            && s.end.abs_diff(h.end) <= 1
+            && (s.start as f32 - h.start as f32).abs() <= WIDENING
+            && o.start.abs_diff(occluder.start) <= 1
+            && (s.start == 0 || p.on_background(row[s.start - 1], d_bg))
+            && p.on_background(row[s.end], d_bg)
+            && p.on_background(row[o.start - 1], d_bg);
+        (run_on, run_on)
     };
-    if !rows.near(raw.len()).iter().all(|row| repeats(row)) {
+    // The rows beside a hidden shadow (below) repeat it in full.
+    let repeats = |row: &[u16]| repeats_how(row) == (true, false);
+    let [up, down] = rows.near(raw.len()).map(repeats_how);
+    if !(up.0 && down.0) || (up.1 && down.1) {
         return Detached::No;
     }
     // A shadow whose left part a nearer surface hides may be any hole that happens to lie
