@@ -1084,9 +1084,12 @@ fn hidden_background(
                 .and_then(fits)
         })
         .or_else(|| {
+            // No background lies beyond the frame's farthest value: when even that one does not
+            // fit, no column need be searched.
             (from_above.is_none() || mixed)
-                .then(|| background_below(p, rows.down, h, sb, range))
-                .flatten()
+                .then_some(range.far)
+                .and_then(fits)
+                .and_then(|_| background_below(p, rows.down, h, sb, range))
                 .and_then(fits)
         })
     else {
@@ -1980,8 +1983,13 @@ fn depthless_occluder(
     };
     // The rows beside a hidden shadow (below) repeat it in full.
     let repeats = |row: &[u16]| repeats_how(row) == (true, false);
-    let [up, down] = rows.near(raw.len()).map(repeats_how);
-    if !(up.0 && down.0) || (up.1 && down.1) {
+    let [above, below] = rows.near(raw.len());
+    let up = repeats_how(above);
+    if !up.0 {
+        return Detached::No;
+    }
+    let down = repeats_how(below);
+    if !down.0 || (up.1 && down.1) {
         return Detached::No;
     }
     // A shadow whose left part a nearer surface hides may be any hole that happens to lie
