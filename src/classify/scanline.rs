@@ -1070,10 +1070,13 @@ fn hidden_background(
     // Where nothing was measured above: the row's own background left of a thin Sa, or (a gap
     // between two objects from the frame's top) the background below the gap, where it shows
     // past the shorter object's end. The latter also stands in for a value above a little
-    // behind Sb that does not fit: a pixel of Sb's edge mixed with the background, from a row
-    // where the hole was narrower (j24 s017, two cylinders).
-    let mixed =
-        from_above.is_some_and(|r| (0.0..MIXED_PX).contains(&(p.disp(sb.near) - p.disp(r))));
+    // behind Sb, and behind Sa, that does not fit: a pixel of Sb's edge mixed with the
+    // background, from a row where the hole was narrower (j24 s017, two cylinders). On Sa's
+    // surface it is Sa going on above a dropout in it (a glossy box's face, j23 s000).
+    let mixed = from_above.is_some_and(|r| {
+        (0.0..MIXED_PX).contains(&(p.disp(sb.near) - p.disp(r)))
+            && p.disp(sa.near) - p.disp(r) >= p.min_step
+    });
     let Some((bg, w)) = from_above
         .and_then(fits)
         .or_else(|| {
@@ -1939,6 +1942,8 @@ fn depthless_occluder(
     if chained_left || chained_right {
         return Detached::No;
     }
+    // This row's lit gap after the occluder, narrow enough for the widening to close it.
+    let narrow_gap_after = hole_after(raw, occluder.end, WIDENING as usize + 1).is_some();
     // Whether `row` repeats the pair, and whether only with the occluder's hole run on.
     let repeats_how = |row: &[u16]| -> (bool, bool) {
         // The same pair in a neighbouring row: holes through both centres, shifted alike (the
@@ -1971,7 +1976,8 @@ fn depthless_occluder(
         // the occluder's left edge in place, still repeats the pair, in one of the two rows, if
         // this row's shadow is as wide as its occluder but for the widening (not merely within
         // eq. (3)'s tolerance: holes in clutter on a real frame).
-        let run_on = o.end > occluder.end + 1
+        let run_on = narrow_gap_after
+            && o.end > occluder.end + 1
             && h.end - h.start <= occluder.end - occluder.start + WIDENING as usize + 1
             && s.end.abs_diff(h.end) <= 1
             && (s.start as f32 - h.start as f32).abs() <= WIDENING
