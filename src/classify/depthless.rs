@@ -65,6 +65,11 @@ const MIN_ROD_HOLE: usize = 8;
 const RANGE_MARGIN: u16 = 1;
 /// Background samples taken on each side of the hole (IR pixels).
 const SIDE: usize = 4;
+/// Most pixels beside a hole a surface's slope is read over.
+const SLOPE_RUN: usize = 24;
+/// Steepest slope (disparity pixels per pixel) a plane is carried over a hole at: a surface at
+/// 1 m turned 73° from facing the camera (b·tan θ / z).
+const MAX_PLANE_SLOPE: f64 = 0.25;
 /// Background pixels a hole at the image's left border needs left of it.
 const BORDER_SIDE: usize = 2;
 /// Disparity difference (pixels) within which the surfaces beside a hole are one background;
@@ -734,7 +739,10 @@ impl ColourSplit {
         // straddling it: only its left part is tested.
         let right = (b + SIDE <= WIDTH).then(|| raw[row + b]);
         let step = right.map_or(0.0, |r| self.disp(left) - self.disp(r));
-        let same_right = right.is_some() && step.abs() <= SAME_SURFACE;
+        // One slanted surface on both sides (a turned glossy box's dropout) continues across the
+        // hole: either side's slope, carried over it, lands on the other.
+        let same_right = right.is_some()
+            && (step.abs() <= SAME_SURFACE || self.slope_continues(&raw[row..row + WIDTH], a, b));
         if behind && !(right.is_some() && step > SAME_SURFACE) {
             return None;
         }
@@ -762,8 +770,9 @@ impl ColourSplit {
             Some(r) if closed => left.max(r),
             _ => left,
         };
-        let nearer_right =
-            right.filter(|&r| !closed && cut == b && r != NO_DEPTH && step < -SAME_SURFACE);
+        let nearer_right = right.filter(|&r| {
+            !same_right && !closed && cut == b && r != NO_DEPTH && step < -SAME_SURFACE
+        });
         Some(Candidate {
             a,
             b: cut,
@@ -772,8 +781,50 @@ impl ColourSplit {
             behind,
             opened: false,
             nearer_right,
-            farther_right: right.is_some() && step > SAME_SURFACE,
+            farther_right: right.is_some() && !same_right && step > SAME_SURFACE,
         })
+    }
+
+    /// Whether the surface on one side of the hole `[a, b)` of `row`, carried over it along its
+    /// slope (read over up to [`SLOPE_RUN`] valid pixels beside the hole, pairs averaged at both
+    /// ends), lands within [`SAME_SURFACE`] of the first pixel on the other side.
+    fn slope_continues(&self, row: &[u16], a: usize, b: usize) -> bool {
+        let d = |u: usize| self.disp(row[u]);
+        let run_left = row[..a]
+            .iter()
+            .rev()
+            .take(SLOPE_RUN)
+            .take_while(|&&r| r != NO_DEPTH)
+            .count();
+        let run_right = row[b..]
+            .iter()
+            .take(SLOPE_RUN)
+            .take_while(|&&r| r != NO_DEPTH)
+            .count();
+        let across = (b - a + 1) as f64;
+        // Disparity per pixel rightwards over `n` pixels from `start` (pairs at both ends).
+        let slope = |start: usize, n: usize| {
+            ((d(start + n - 1) + d(start + n - 2)) - (d(start) + d(start + 1)))
+                / (2 * (n - 2)) as f64
+        };
+        // A plane: its pixels on the line through the run's ends (a round object's limb bends
+        // away from it), and not so steep that a pixel's noise moves the landing by a step.
+        let plane = |start: usize, n: usize, k: f64| {
+            let base = 0.5 * (d(start) + d(start + 1)) - 0.5 * k;
+            k.abs() <= MAX_PLANE_SLOPE
+                && (start..start + n).all(|u| (d(u) - base - k * (u - start) as f64).abs() <= 0.5)
+        };
+        // Carried no further than three times the run it was read over.
+        let reaches = |n: usize| n >= 8 && b - a <= 3 * n;
+        let from_left = reaches(run_left) && {
+            let k = slope(a - run_left, run_left);
+            plane(a - run_left, run_left, k) && (d(a - 1) + k * across - d(b)).abs() <= SAME_SURFACE
+        };
+        let from_right = reaches(run_right) && {
+            let k = slope(b, run_right);
+            plane(b, run_right, k) && (d(b) - k * across - d(a - 1)).abs() <= SAME_SURFACE
+        };
+        from_left || from_right
     }
 
     /// The split of candidate `c` in row `v` (shadow width, occluder shift), if a row above or
