@@ -790,41 +790,40 @@ impl ColourSplit {
     /// ends), lands within [`SAME_SURFACE`] of the first pixel on the other side.
     fn slope_continues(&self, row: &[u16], a: usize, b: usize) -> bool {
         let d = |u: usize| self.disp(row[u]);
-        let run_left = row[..a]
-            .iter()
-            .rev()
-            .take(SLOPE_RUN)
-            .take_while(|&&r| r != NO_DEPTH)
-            .count();
-        let run_right = row[b..]
-            .iter()
-            .take(SLOPE_RUN)
-            .take_while(|&&r| r != NO_DEPTH)
-            .count();
         let across = (b - a + 1) as f64;
+        // No plane this steep or gentler climbs the step between the sides over the hole.
+        if (d(a - 1) - d(b)).abs() > MAX_PLANE_SLOPE * across + SAME_SURFACE {
+            return false;
+        }
+        // Carried no further than three times the run it was read over.
+        let reaches = |n: usize| n >= 8 && b - a <= 3 * n;
+        let run = |side: &mut dyn Iterator<Item = &u16>| {
+            side.take(SLOPE_RUN).take_while(|&&r| r != NO_DEPTH).count()
+        };
         // Disparity per pixel rightwards over `n` pixels from `start` (pairs at both ends).
         let slope = |start: usize, n: usize| {
             ((d(start + n - 1) + d(start + n - 2)) - (d(start) + d(start + 1)))
                 / (2 * (n - 2)) as f64
         };
-        // A plane: its pixels on the line through the run's ends (a round object's limb bends
-        // away from it), and not so steep that a pixel's noise moves the landing by a step.
+        // A plane: not so steep that a pixel's noise moves the landing by a step, and its pixels
+        // on the line through the run's ends (a round object's limb bends away from it). Read
+        // last: most holes fail the landing.
         let plane = |start: usize, n: usize, k: f64| {
             let base = 0.5 * (d(start) + d(start + 1)) - 0.5 * k;
+            (start..start + n).all(|u| (d(u) - base - k * (u - start) as f64).abs() <= 0.5)
+        };
+        let lands = |n: usize, start: usize, from: f64, to: f64, sign: f64| {
+            let k = slope(start, n);
             k.abs() <= MAX_PLANE_SLOPE
-                && (start..start + n).all(|u| (d(u) - base - k * (u - start) as f64).abs() <= 0.5)
+                && (from + sign * k * across - to).abs() <= SAME_SURFACE
+                && plane(start, n, k)
         };
-        // Carried no further than three times the run it was read over.
-        let reaches = |n: usize| n >= 8 && b - a <= 3 * n;
-        let from_left = reaches(run_left) && {
-            let k = slope(a - run_left, run_left);
-            plane(a - run_left, run_left, k) && (d(a - 1) + k * across - d(b)).abs() <= SAME_SURFACE
-        };
-        let from_right = reaches(run_right) && {
-            let k = slope(b, run_right);
-            plane(b, run_right, k) && (d(b) - k * across - d(a - 1)).abs() <= SAME_SURFACE
-        };
-        from_left || from_right
+        let run_left = run(&mut row[..a].iter().rev());
+        if reaches(run_left) && lands(run_left, a - run_left, d(a - 1), d(b), 1.0) {
+            return true;
+        }
+        let run_right = run(&mut row[b..].iter());
+        reaches(run_right) && lands(run_right, b, d(b), d(a - 1), -1.0)
     }
 
     /// The split of candidate `c` in row `v` (shadow width, occluder shift), if a row above or
