@@ -33,7 +33,7 @@
 
 use super::align::Simd;
 use super::holes::HoleMask;
-use super::scanline::{beyond_range_span, FrameFacts, Range};
+use super::scanline::{beyond_range_span, FrameFacts, Line, Range};
 use crate::calib::Calibration;
 use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
@@ -69,7 +69,7 @@ const SIDE: usize = 4;
 const SLOPE_RUN: usize = 24;
 /// Steepest slope (disparity pixels per pixel) a plane is carried over a hole at: a surface at
 /// 1 m turned 73° from facing the camera (b·tan θ / z).
-const MAX_PLANE_SLOPE: f64 = 0.25;
+const MAX_PLANE_SLOPE: f32 = 0.25;
 /// Background pixels a hole at the image's left border needs left of it.
 const BORDER_SIDE: usize = 2;
 /// Disparity difference (pixels) within which the surfaces beside a hole are one background;
@@ -785,45 +785,37 @@ impl ColourSplit {
         })
     }
 
-    /// Whether the surface on one side of the hole `[a, b)` of `row`, carried over it along its
-    /// slope (read over up to [`SLOPE_RUN`] valid pixels beside the hole, pairs averaged at both
-    /// ends), lands within [`SAME_SURFACE`] of the first pixel on the other side.
+    /// Whether the surface on one side of the hole `[a, b)` of `row`, a plane over up to
+    /// [`SLOPE_RUN`] valid pixels beside the hole ([`Line`]: at least 8, carried no further than
+    /// three times that), lands within [`SAME_SURFACE`] of the first pixel on the other side.
     fn slope_continues(&self, row: &[u16], a: usize, b: usize) -> bool {
-        let d = |u: usize| self.disp(row[u]);
-        let across = (b - a + 1) as f64;
+        let disp = |r: u16| self.disp(r) as f32;
+        let (left, right) = (disp(row[a - 1]), disp(row[b]));
         // No plane this steep or gentler climbs the step between the sides over the hole.
-        if (d(a - 1) - d(b)).abs() > MAX_PLANE_SLOPE * across + SAME_SURFACE {
+        let across = (b - a + 1) as f32;
+        if (left - right).abs() > MAX_PLANE_SLOPE * across + SAME_SURFACE as f32 {
             return false;
         }
-        // Carried no further than three times the run it was read over.
-        let reaches = |n: usize| n >= 8 && b - a <= 3 * n;
-        let run = |side: &mut dyn Iterator<Item = &u16>| {
+        // Not so steep that a pixel's noise moves the landing by a step, and every pixel of the
+        // run within half a pixel of the line (a round object's limb bends away from it); the
+        // fit read last, as most holes fail the landing.
+        let lands = |run: (usize, usize), at: usize, target: f32| {
+            Line::through(row, run, disp).is_some_and(|line| {
+                line.slope.abs() <= MAX_PLANE_SLOPE
+                    && line.reach.contains(&at)
+                    && (line.disp_at(at) - target).abs() <= SAME_SURFACE as f32
+                    && line.fits(row, run, disp, 0.5)
+            })
+        };
+        let valid = |side: &mut dyn Iterator<Item = &u16>| {
             side.take(SLOPE_RUN).take_while(|&&r| r != NO_DEPTH).count()
         };
-        // Disparity per pixel rightwards over `n` pixels from `start` (pairs at both ends).
-        let slope = |start: usize, n: usize| {
-            ((d(start + n - 1) + d(start + n - 2)) - (d(start) + d(start + 1)))
-                / (2 * (n - 2)) as f64
-        };
-        // A plane: not so steep that a pixel's noise moves the landing by a step, and its pixels
-        // on the line through the run's ends (a round object's limb bends away from it). Read
-        // last: most holes fail the landing.
-        let plane = |start: usize, n: usize, k: f64| {
-            let base = 0.5 * (d(start) + d(start + 1)) - 0.5 * k;
-            (start..start + n).all(|u| (d(u) - base - k * (u - start) as f64).abs() <= 0.5)
-        };
-        let lands = |n: usize, start: usize, from: f64, to: f64, sign: f64| {
-            let k = slope(start, n);
-            k.abs() <= MAX_PLANE_SLOPE
-                && (from + sign * k * across - to).abs() <= SAME_SURFACE
-                && plane(start, n, k)
-        };
-        let run_left = run(&mut row[..a].iter().rev());
-        if reaches(run_left) && lands(run_left, a - run_left, d(a - 1), d(b), 1.0) {
+        let run_left = valid(&mut row[..a].iter().rev());
+        if lands((a - run_left, a), b, right) {
             return true;
         }
-        let run_right = run(&mut row[b..].iter());
-        reaches(run_right) && lands(run_right, b, d(b), d(a - 1), -1.0)
+        let run_right = valid(&mut row[b..].iter());
+        lands((b, b + run_right), a - 1, left)
     }
 
     /// The split of candidate `c` in row `v` (shadow width, occluder shift), if a row above or

@@ -2135,61 +2135,83 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
 /// A plane's disparity is affine in the image column, so a wall turned away from the camera (a
 /// side wall) draws a line along a row: a detached shadow and its depthless occluder 50 px apart
 /// on it lie at disparities 3 px apart, past [`ScanParams::on_background`]'s reach.
-struct Line {
+pub(crate) struct Line {
     /// Column and disparity (pixels) of one point on it.
     at: f32,
     disp: f32,
     /// Disparity change per column.
-    slope: f32,
-    /// Columns it reaches: extrapolated no further than [`SLANT_REACH`] times the gap it was
+    pub(crate) slope: f32,
+    /// Columns it reaches: extrapolated no further than [`SLANT_REACH`] times the run it was
     /// drawn through.
-    reach: std::ops::Range<usize>,
+    pub(crate) reach: std::ops::Range<usize>,
 }
 
 impl Line {
+    /// The line through the ends of `raw[from..to]` (three pixels averaged at each, against the
+    /// sensor's noise; `disp` gives a raw value's disparity), if the run is at least
+    /// [`MIN_SLANT_GAP`] wide and each end holds a measured pixel. Whether the run lies on it is
+    /// [`Line::fits`]'s question.
+    pub(crate) fn through(
+        raw: &[u16],
+        (from, to): (usize, usize),
+        disp: impl Fn(u16) -> f32,
+    ) -> Option<Line> {
+        if to < from + MIN_SLANT_GAP {
+            return None;
+        }
+        let run = &raw[from..to];
+        let mean = |part: &[u16]| {
+            let (sum, n) = part
+                .iter()
+                .filter(|&&r| r != NO_DEPTH)
+                .fold((0.0, 0.0), |(s, n), &r| (s + disp(r), n + 1.0));
+            (n > 0.0).then(|| sum / n)
+        };
+        let (a, b) = (mean(&run[..3])?, mean(&run[run.len() - 3..])?);
+        Some(Line {
+            at: from as f32 + 1.0,
+            disp: a,
+            slope: (b - a) / (run.len() - 3) as f32,
+            reach: from.saturating_sub(SLANT_REACH * run.len())..to + SLANT_REACH * run.len(),
+        })
+    }
+
+    /// Its disparity at column `u`.
+    pub(crate) fn disp_at(&self, u: usize) -> f32 {
+        self.disp + self.slope * (u as f32 - self.at)
+    }
+
+    /// Whether each measured pixel of `raw[from..to]` lies within `tol` pixels of disparity of
+    /// it: one smooth surface.
+    pub(crate) fn fits(
+        &self,
+        raw: &[u16],
+        (from, to): (usize, usize),
+        disp: impl Fn(u16) -> f32,
+        tol: f32,
+    ) -> bool {
+        (from..to).all(|u| raw[u] == NO_DEPTH || (disp(raw[u]) - self.disp_at(u)).abs() < tol)
+    }
+
     /// Whether pixel `u` is measured and lies on the line within `steps` of `min_step`.
     fn holds(&self, p: &ScanParams, raw: &[u16], u: usize, steps: f32) -> bool {
-        let expect = self.disp + self.slope * (u as f32 - self.at);
         self.reach.contains(&u)
             && raw.get(u).is_some_and(|&r| r != NO_DEPTH)
-            && (p.disp(raw[u]) - expect).abs() < steps * p.min_step
+            && (p.disp(raw[u]) - self.disp_at(u)).abs() < steps * p.min_step
     }
 }
 
 /// The line through the lit gap `[from, to)` between a shadow and its occluder, when the gap is
-/// one smooth surface at least [`MIN_SLANT_GAP`] wide: each measured pixel within a step of the
-/// line through its ends (three pixels averaged at each, against the sensor's noise).
+/// one smooth surface: each measured pixel within a step of the line through its ends.
 fn gap_line(p: &ScanParams, raw: &[u16], from: usize, to: usize) -> Option<Line> {
-    if to < from + MIN_SLANT_GAP {
-        return None;
-    }
-    let gap = &raw[from..to];
-    let mean = |part: &[u16]| {
-        let (sum, n) = part
-            .iter()
-            .filter(|&&r| r != NO_DEPTH)
-            .fold((0.0, 0.0), |(s, n), &r| (s + p.disp(r), n + 1.0));
-        (n > 0.0).then(|| sum / n)
-    };
-    let (a, b) = (mean(&gap[..3])?, mean(&gap[gap.len() - 3..])?);
-    let line = Line {
-        at: from as f32 + 1.0,
-        disp: a,
-        slope: (b - a) / (gap.len() - 3) as f32,
-        reach: from.saturating_sub(SLANT_REACH * gap.len())..to + SLANT_REACH * gap.len(),
-    };
-    let fits = gap.iter().enumerate().all(|(k, &r)| {
-        r == NO_DEPTH
-            || (p.disp(r) - (line.disp + line.slope * ((from + k) as f32 - line.at))).abs()
-                < p.min_step
-    });
-    fits.then_some(line)
+    let disp = |r: u16| p.disp(r);
+    Line::through(raw, (from, to), disp).filter(|line| line.fits(raw, (from, to), disp, p.min_step))
 }
 
 /// Narrowest lit gap [`gap_line`] draws a line through: over fewer pixels the sensor's noise
 /// tilts it too much to extrapolate across a shadow.
 const MIN_SLANT_GAP: usize = 8;
-/// How many times the gap's width [`gap_line`]'s line is extrapolated at most, either side.
+/// How many times the run's width a [`Line`] is extrapolated at most, either side.
 const SLANT_REACH: usize = 3;
 
 /// Whether the pixel left of shadow `h` is a surface nearer than the background (disparity
