@@ -419,6 +419,8 @@ impl ColourSplit {
                         // Last: a split above may leave a depthless occluder, nearer than Sa,
                         // whose face the RGB camera sees over the shadow at Sa's depth.
                         self.on_a_dark_surface(raw, rgb, labels, v, (a, b));
+                    } else if labels[i] == DETACHED {
+                        self.detached_on_a_dark_surface(raw, rgb, labels, v, (a, b));
                     }
                     u = mask.next_hole(b.max(u + 1));
                     continue;

@@ -1,4 +1,4 @@
-//! Attached shadows that fall, in part, on a black surface: OTHER there (SPEC §1: a hole that
+//! Shadows that fall, in part or whole, on a black surface: OTHER there (SPEC §1: a hole that
 //! would be a hole even if lit).
 //!
 //! From depth a shadow on a black poster, or behind a black rod standing in it, looks like any
@@ -11,12 +11,17 @@
 //! always the shadow's surface: past a pale box's edge the shadow may lie on a darker wall
 //! behind it, so a run with no lit stretch of the hole before it must be black in itself, and
 //! one that reaches the occluder needs a few pixels of Sa's surface before it.
+//!
+//! A thin occluder's detached shadow and the lit gap after it, both on a black poster, make one
+//! hole the scanline reads as that shadow: the same test, on the whole hole, makes it OTHER.
 
-use super::{ColourSplit, SIDE};
-use crate::labels::{ATTACHED, NO_DEPTH, OTHER, WIDTH};
+use super::{ColourSplit, SAME_SURFACE, SIDE};
+use crate::labels::{ATTACHED, DETACHED, NO_DEPTH, OTHER, WIDTH};
 
-/// Brightness (R + G + B) of Sa's side under which the hole is not read.
-const LIT_SIDE: i32 = 240;
+/// Brightness (R + G + B) of Sa's side under which the hole is not read: in a dim room
+/// everything is near black (the real NYU frame's floor, whose shadows' sides read 60 to 150).
+/// A pale wall in a room a third as bright reads about 200.
+const LIT_SIDE: i32 = 150;
 /// A pixel is dark when Sa's side is this many times as bright as it...
 const TIMES_DARKER: i32 = 3;
 /// ...and brighter by this much (the camera's noise on a dim side).
@@ -33,6 +38,12 @@ const LEAD: usize = 4;
 /// Widest hole read (pixels): eq. (3) gives more only for an occluder nearer than the sensor's
 /// range (about 0.35 m before a far wall).
 const WIDEST: usize = 128;
+/// Pixels at either end of a detached hole that need not be black (see
+/// [`ColourSplit::detached_on_a_dark_surface`]).
+const EDGE: usize = 4;
+/// Pixels right of a side of a detached hole that must hold no nearer surface for the RGB
+/// camera to see that side (f_rgb·b_rgb·(1/0.7 − 1/4) ≈ 15 px at most before a far wall).
+const GUARD: usize = 16;
 /// RGB columns before the occluder's edge at which the hole stops being read (the edge's blend).
 const BEFORE_EDGE: f64 = 1.5;
 
@@ -114,6 +125,111 @@ impl ColourSplit {
                 labels[row + a + start..row + a + to].fill(OTHER);
             }
             k = end;
+        }
+    }
+
+    /// Relabels OTHER the detached hole `[a, b)` of row `v` when the RGB camera sees it black
+    /// wherever it sees it: a thin occluder's shadow and lit gap both on a black poster make one
+    /// hole between the background and the occluder (or the next object), the shadow's layout
+    /// and width, that would be a hole even if lit. The background is the farther of Sa and Sb;
+    /// the hole must be black throughout but for [`EDGE`] pixels at its ends (a sliver of the
+    /// shadow on the lit wall, the poster's blend), and its sides lit: a dark square of a
+    /// patterned wall runs on past the hole, a poster's hole ends where the poster does.
+    pub(super) fn detached_on_a_dark_surface(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        labels: &mut [u8],
+        v: usize,
+        (a, b): (usize, usize),
+    ) {
+        let row = v * WIDTH;
+        if a < SIDE || b + SIDE + GUARD > WIDTH || b - a <= 2 * MIN_RUN || b - a > WIDEST {
+            return;
+        }
+        let (sa, sb) = (raw[row + a - 1], raw[row + b]);
+        if sa == NO_DEPTH
+            || sb == NO_DEPTH
+            || !labels[row + a..row + b].iter().all(|&l| l == DETACHED)
+        {
+            return;
+        }
+        // Each side on the background (the farther of Sa and Sb, or both where they are one
+        // surface) must show it lit, in full view of the RGB camera: a nearer object within
+        // GUARD pixels right of a side hides it (the RGB camera sees near objects shifted left),
+        // and a thin lit gap beside the occluder would read the occluder's colour.
+        let bg = sa.max(sb);
+        let far = |r: u16| self.disp(r) - self.disp(bg) < SAME_SURFACE;
+        let mut side = i32::MAX;
+        // Sa's side has the hole right of it; Sb's the row on.
+        for (on_bg, px, clear) in [
+            (far(sa), a - SIDE..a, a - SIDE..a),
+            (far(sb), b..b + SIDE, b..b + SIDE + GUARD),
+        ] {
+            if !on_bg {
+                continue;
+            }
+            if raw[row + clear.start..row + clear.end]
+                .iter()
+                .any(|&r| r == NO_DEPTH || !far(r))
+            {
+                return;
+            }
+            let mut sum = 0;
+            for u in px {
+                let Some(p) = self.probe(rgb, u, v, bg) else {
+                    return;
+                };
+                sum += p.iter().sum::<i32>();
+            }
+            side = side.min(sum / SIDE as i32);
+        }
+        if side < LIT_SIDE {
+            return;
+        }
+        // With Sa the background, the RGB camera sees the nearer Sb over the hole's right part.
+        let to_x = if sa > sb {
+            self.project(b as f64 - 0.5, v, sb).0 - BEFORE_EDGE
+        } else {
+            f64::INFINITY
+        };
+        let (xa, ya) = self.project(a as f64, v, bg);
+        let (xb, yb) = self.project(b as f64, v, bg);
+        let span = (b - a) as f64;
+        let (dx, dy) = ((xb - xa) / span, (yb - ya) / span);
+        // The black run, bar up to EDGE pixels at either end: a sliver of the shadow on the
+        // lit wall past the poster's edge, or the edge's blend.
+        let (mut first, mut last, mut seen) = (None, 0, 0);
+        for u in a..b {
+            let k = (u - a) as f64;
+            let (x, y) = (xa + k * dx, ya + k * dy);
+            if x > to_x {
+                break;
+            }
+            let Some(p) = super::rgb_at(rgb, x, y) else {
+                return;
+            };
+            let c = p.iter().sum::<i32>();
+            seen += 1;
+            if TIMES_DARKER * c < side && side - c > MIN_STEP && c < BLACK {
+                if first.is_none() {
+                    first = Some(u);
+                } else if u > last + 1 {
+                    return;
+                }
+                last = u;
+            } else if first.is_none() && u - a >= EDGE {
+                return;
+            }
+        }
+        let Some(first) = first else {
+            return;
+        };
+        // Most of the hole seen (not a strip beside the occluder's own dark edge), black on to
+        // its last pixel seen bar the edge.
+        if 2 * seen >= b - a && a + seen <= last + 1 + EDGE {
+            let to = if a + seen < b { b } else { last + 1 };
+            labels[row + first..row + to].fill(OTHER);
         }
     }
 }
