@@ -682,6 +682,65 @@ fn hole_where_a_turned_wall_leaves_the_range_stays_other() {
 }
 
 #[test]
+fn gap_past_a_thin_rod_where_a_turned_wall_leaves_the_range_is_no_shadow() {
+    // A wall turned 60° away through (0, 0, 3 m) reaches the sensor's 4.5 m at column cx + fx·(1
+    // − 3/4.5)/tan 60° = 425.2. A thin rod (radius 13 mm) at 1.5 m stands over that column
+    // (420.1 ± 10.1 px), a nearer one (radius 15 mm) at 0.8 m right of it (477.6 ± 10.9): between
+    // them, 430..467, the wall lies beyond the range and nothing the sensor measures takes the
+    // near rod's shadow: OTHER (SPEC §1). From the row alone it looks like that shadow on the
+    // wall left of the thin rod, which goes on behind it (eq. 3 at the wall's last measured 4.5
+    // m: 43.7·(1/0.8 − 1/4.5) = 44.9 px, wider than the gap), and nothing above the gap was ever
+    // measured. The wall's slope, carried from its last measured pixels to the gap's end, leaves
+    // the frame's range (a floor 1 m below keeps some rows measured to the border).
+    // Measured (seed 80): 310 px of the gap called shadow before, 0 now; seed 81 31 px.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::new("thin rod where a turned wall leaves the range");
+    scene.push(
+        "wall",
+        umbra::synth::scene::slanted_wall(3.0, 60f64.to_radians()),
+        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
+    );
+    scene.push(
+        "floor",
+        umbra::synth::scene::floor(1.0, 0.0),
+        umbra::synth::Material::matte([0.5, 0.5, 0.45]),
+    );
+    push_grey_rod(
+        &mut scene,
+        (420.1 - calib.depth.cx) * 1.5 / calib.depth.fx,
+        1.5,
+        0.013,
+    );
+    push_grey_rod(
+        &mut scene,
+        (477.6 - calib.depth.cx) * 0.8 / calib.depth.fx,
+        0.8,
+        0.015,
+    );
+    for seed in 80..82 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        let gap = |v: usize| v * WIDTH + 433..v * WIDTH + 464;
+        assert!(
+            (0..300).all(|v| frame.ir_labels[gap(v)].iter().all(|&l| l == OTHER)),
+            "the gap is a hole beyond the range"
+        );
+        for (out, what) in [
+            (classify(&calib, &frame), "depth alone"),
+            (classify_rgb(&calib, &frame), "with colour"),
+        ] {
+            let claimed = (0..300)
+                .flat_map(gap)
+                .filter(|&i| out.ir_labels[i] != OTHER)
+                .count();
+            assert!(
+                claimed < 100,
+                "seed {seed}, {what}: {claimed} px of the gap called shadow"
+            );
+        }
+    }
+}
+
+#[test]
 fn black_stripe_where_such_a_shadow_would_fall_stays_other() {
     // The same hole, made by a black strip on the wall instead (13 mm proud of it, columns
     // 613.1..624.8 at 3 m: x = (u − cx)·3/fx = 1.544..1.605 m): the RGB camera sees it dark.

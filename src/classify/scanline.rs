@@ -1082,7 +1082,7 @@ fn hidden_background(
         .or_else(|| {
             from_above
                 .is_none()
-                .then(|| beside_thin_sa(p, raw, h, sa, labels))
+                .then(|| beside_thin_sa(p, raw, h, sa, labels, range))
                 .flatten()
                 .and_then(fits)
         })
@@ -1143,7 +1143,14 @@ fn behind_thin_sa(
 /// continues behind it, if it lies farther than Sa, and if the holes between them are shadows on
 /// it (Sa's own detached shadow, say): a hole left OTHER there may be a region beyond range,
 /// which the thin object stands before with nothing behind it to take a shadow.
-fn beside_thin_sa(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, labels: &[u8]) -> Option<u16> {
+fn beside_thin_sa(
+    p: &ScanParams,
+    raw: &[u16],
+    h: Run,
+    sa: Bound,
+    labels: &[u8],
+    range: Range,
+) -> Option<u16> {
     // Holes crossed on the way (a thin object's own shadow is at most this wide).
     const MAX_HOLES: usize = 64;
     let d_sa = p.disp(sa.edge);
@@ -1165,9 +1172,29 @@ fn beside_thin_sa(p: &ScanParams, raw: &[u16], h: Run, sa: Bound, labels: &[u8])
     if !crossed.iter().all(|&l| l == ATTACHED || l == DETACHED) {
         return None;
     }
-    let bg = left[left.len() - holes - 1];
-    (d_sa - p.disp(bg) >= p.min_step).then_some(bg)
+    let end = left.len() - holes;
+    let bg = left[end - 1];
+    // A surface receding towards the hole (a side wall) that leaves the frame's range before
+    // the hole's end goes on behind it no further than that: beyond it the shadow falls on
+    // nothing the sensor measures (j32 s007, a side wall meeting a back wall beyond range).
+    let disp = |r: u16| p.disp(r);
+    // Its last BESIDE_RUN measured pixels, across the holes of a shadow on it.
+    let from = (0..end)
+        .rev()
+        .take(BESIDE_RUN + MAX_HOLES)
+        .filter(|&u| raw[u] != NO_DEPTH)
+        .take(BESIDE_RUN)
+        .last()
+        .unwrap_or(end);
+    let leaves_range = Line::through(raw, (from, end), disp)
+        .filter(|line| line.slope < 0.0 && line.fits(raw, (from, end), disp, p.min_step))
+        .is_some_and(|line| line.disp_at(h.end) < p.disp(range.far) - p.min_step);
+    (d_sa - p.disp(bg) >= p.min_step && !leaves_range).then_some(bg)
 }
+
+/// Measured pixels of the surface left of a thin Sa through which [`beside_thin_sa`] draws its
+/// slope.
+const BESIDE_RUN: usize = 24;
 
 /// How many valid pixels on Sa's surface lie left of the hole, counted up to one past
 /// [`THIN_SA`] (more means Sa is no thin object).
