@@ -2100,14 +2100,50 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
         on_one(&|u| line.holds(p, raw, u, 2.0))
             && (at_left || at_border || nearer_left || shadow_w <= stretched + WIDENING + 1.0)
     };
-    let sides = on_one(&level) || gap_line(p, raw, h.end, start).is_some_and(on_plane);
+    // A lit gap too narrow to draw the line through draws it with the surface past the
+    // occluder (a black rod's shadow on a side wall, 7 px from it: j33 s019), each measured
+    // pixel of both on it.
+    let narrow = start - h.end < MIN_SLANT_GAP;
+    let past_line = || {
+        let to = end
+            + raw[end..]
+                .iter()
+                .take(SLANT_RUN)
+                .take_while(|&&r| r != NO_DEPTH)
+                .count();
+        (narrow && to >= end + MIN_SLANT_GAP)
+            .then(|| gap_line(p, raw, h.end, to))
+            .flatten()
+    };
+    // Or the surface before the shadow alone draws it (at the border nothing lies past the
+    // occluder), over a run long enough not to take a thin object there for the wall: two
+    // runs of a few pixels draw a line through any two rods before a region beyond range.
+    let before_line = || {
+        let run = raw[..h.start]
+            .iter()
+            .rev()
+            .take(SLANT_RUN)
+            .take_while(|&&r| r != NO_DEPTH)
+            .count();
+        (narrow && run >= SLANT_RUN)
+            .then(|| gap_line(p, raw, h.start - run, h.start))
+            .flatten()
+    };
+    let sides = on_one(&level)
+        || gap_line(p, raw, h.end, start).is_some_and(on_plane)
+        || (!at_border && past_line().is_some_and(on_plane))
+        || before_line().is_some_and(on_plane);
     if !sides {
         return None;
     }
     // At the border nothing closes the occluder's hole, so the lit gap must be the very surface
     // the shadow lies on (within a step of the shadow's left side), not merely near its depth:
     // two thin objects before a wall beyond range bound its holes at depths near each other.
-    if at_border && (p.disp(raw[start - 1]) - p.disp(raw[h.start - 1])).abs() >= p.min_step {
+    // On a slanted wall, the line the surface before the shadow draws must reach the gap.
+    if at_border
+        && (p.disp(raw[start - 1]) - p.disp(raw[h.start - 1])).abs() >= p.min_step
+        && !before_line().is_some_and(on_plane)
+    {
         return None;
     }
     // Widening only ever adds to the shadow (up to `over`); one pixel of sampling either way.
@@ -2238,6 +2274,9 @@ fn gap_line(p: &ScanParams, raw: &[u16], from: usize, to: usize) -> Option<Line>
 /// Narrowest lit gap [`gap_line`] draws a line through: over fewer pixels the sensor's noise
 /// tilts it too much to extrapolate across a shadow.
 const MIN_SLANT_GAP: usize = 8;
+/// Measured pixels past a depthless occluder, or before its shadow, that [`hole_pair`] draws a
+/// slanted wall's line through when the lit gap is too narrow for [`gap_line`].
+const SLANT_RUN: usize = 24;
 /// How many times the run's width a [`Line`] is extrapolated at most, either side.
 const SLANT_REACH: usize = 3;
 
@@ -2641,6 +2680,40 @@ mod tests {
         wide[416..432].fill(NO_DEPTH);
         let (labels, _) = run_with_neighbours(&wide, &wide, &wide);
         assert!(labels[416..432].iter().all(|&l| l != DETACHED));
+    }
+
+    #[test]
+    fn depthless_rods_shadow_on_a_slanted_side_wall_a_few_pixels_from_it_is_detached() {
+        // The side wall above (f·b·β = 0.06 px of disparity per column), a black rod at 0.8 m
+        // over [460, 490): its shadow [x_s(460), x_s(490)) = [421.2, 453.1), a lit gap of 6.9
+        // px before the rod, too narrow to draw the wall's line through; the wall past the rod
+        // draws it with the gap. And a thinner rod over [630, 650), off the right border: its
+        // shadow [602.1, 623.3), a 6.7 px gap; nothing past the rod, the wall before the shadow
+        // draws the line.
+        let (c, _) = params();
+        let fb = c.fb();
+        let beta = 0.06 / fb;
+        let alpha = 1.0 / 3.0 - 400.0 * beta;
+        let inv_z = |x: usize| alpha + beta * x.max(300) as f64;
+        let x_s = |x_o: f64| (x_o - fb * (1.0 / 0.8 - alpha)) / (1.0 - fb * beta);
+        let wall: Vec<u16> = (0..WIDTH).map(|x| raw_at(&c, 1.0 / inv_z(x))).collect();
+        for (rod, shadow) in [(460..490, (421.2, 453.1)), (630..WIDTH, (602.1, 623.3))] {
+            let to = if rod.end == WIDTH {
+                650.0
+            } else {
+                rod.end as f64
+            };
+            let (from, end) = (x_s(rod.start as f64), x_s(to));
+            assert!((from - shadow.0).abs() < 0.05 && (end - shadow.1).abs() < 0.05);
+            let hole = from.floor() as usize..end.ceil() as usize;
+            assert!(rod.start - hole.end < MIN_SLANT_GAP);
+            let mut row = wall.clone();
+            row[hole.clone()].fill(NO_DEPTH);
+            row[rod.clone()].fill(NO_DEPTH);
+            let (labels, _) = run_with_neighbours(&row, &row, &row);
+            assert_run(&labels, hole, DETACHED);
+            assert_run(&labels, rod, OTHER);
+        }
     }
 
     #[test]
