@@ -2083,18 +2083,25 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
     // Both holes lie on the same background: lit pixels of its depth on either side of each, or,
     // on a slanted wall, all on the line the lit gap between them draws.
     let level = |u: usize| p.on_background(raw[u], d_bg);
+    // A nearer surface may close the occluder's hole (a black rod before a box's edge, j32
+    // s001), if the hole is wider than that surface's own attached shadow there could be, and
+    // the shadow's own left side shows the background (one side of each hole must).
+    let (occluder_w, shadow_w) = ((end - start) as f32, (h.end - h.start) as f32);
+    let nearer_end = !at_border && !at_left && !nearer_left && !level(end) && {
+        let step = p.disp(raw[end]) - d_bg;
+        step >= p.min_step && occluder_w > step + p.over
+    };
     let on_one = |background: &dyn Fn(usize) -> bool| {
         (at_left || nearer_left || background(h.start - 1))
             && background(h.end)
             && background(start - 1)
-            && (at_border || background(end))
+            && (at_border || nearer_end || background(end))
     };
     // On a plane whose disparity grows by `slope` per column, a projector ray meeting the
     // occluder at column x_o meets the plane at x_s = (x_o − const) / (1 − slope): the shadow is
     // the occluder's image stretched by 1 / (1 − slope), plus the widening. The stripes of a
     // glossy cylinder, which bends away from any line, seldom fit that (an independent
     // simulator's simple scenes: detached F1 −0.045 without this check, −0.008 with it).
-    let (shadow_w, occluder_w) = ((h.end - h.start) as f32, (end - start) as f32);
     let on_plane = |line: Line| {
         let stretched = occluder_w / (1.0 - line.slope).max(0.5);
         on_one(&|u| line.holds(p, raw, u, 2.0))
@@ -2187,7 +2194,9 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
     // The shadow's right edge is the occluder's, shifted (plus up to 2 px of widening); at the
     // border the left edges give it (plus the widening of the shadow's left end). The implied
     // occluder must lie within the sensor's range.
-    let shift = if at_border {
+    // Where a nearer surface closes the occluder's hole, its right end may be that surface's
+    // shadow: the left edges give it too.
+    let shift = if at_border || nearer_end {
         (start - h.start) as f32
     } else {
         (end - h.end) as f32
@@ -2714,6 +2723,27 @@ mod tests {
             assert_run(&labels, hole, DETACHED);
             assert_run(&labels, rod, OTHER);
         }
+    }
+
+    #[test]
+    fn depthless_rod_before_a_nearer_boxs_edge_keeps_its_detached_shadow() {
+        // A black rod at 1 m over [300, 317) before a wall at 3 m: its shadow 29.1 px left,
+        // [271, 288), the lit wall between. A box at 2 m starts right of the rod (its own
+        // attached shadow, 43.7·(1/2 − 1/3) = 7.3 px, hidden behind the rod): the rod's hole is
+        // closed by the box, not the wall, and is too wide to be the box's shadow. The shift
+        // comes from the left edges, 300 − 271 = 29 px: the rod is placed at about 1 m.
+        let (c, _) = params();
+        let mut row = wall_with_holes(&c, &[(271, 288), (300, 317)]);
+        row[317..400].fill(raw_at(&c, 2.0));
+        let (labels, filled) = run_with_neighbours(&row, &row, &row);
+        assert_run(&labels, 271..288, DETACHED);
+        assert_run(&labels, 300..317, OTHER);
+        assert_placed_at(&c, &filled, 308, 1.0, 0.05);
+        // A hole no wider than the box's own shadow there is that shadow, no occluder.
+        let mut narrow = wall_with_holes(&c, &[(271, 278), (300, 307)]);
+        narrow[307..400].fill(raw_at(&c, 2.0));
+        let (labels, _) = run_with_neighbours(&narrow, &narrow, &narrow);
+        assert!(labels[271..278].iter().all(|&l| l != DETACHED));
     }
 
     #[test]
