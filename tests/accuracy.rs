@@ -1467,6 +1467,63 @@ fn rod_shadow_and_lit_gap_on_a_black_poster_in_a_dim_image_are_other() {
     at_least(&with_rgb, Some(OTHER), 0.95, "OTHER on a black poster, dim");
 }
 
+#[test]
+fn glossy_rod_in_a_box_shadow_keeps_its_detached_shadow() {
+    // The hand-computed box (left edge at column 196.5, 1 m, rows ±146) before a wall at 3 m: its
+    // attached shadow [167.4, 196.5). A glossy red rod at 0.8 m over [165.5, 188.5) (x = −0.1868
+    // m, radius 15.8 mm) covers all but its last 8 px: rod and shadow make one hole of 31 px
+    // between wall and box, which eq. (3) for the box fits. The rod's own shadow, 43.7·(1/0.8 −
+    // 1/3) = 40.1 px left of it, [125.4, 148.4), lies on the wall past a lit gap of 17 px: an
+    // OTHER hole from depth alone. The RGB camera sees the wall over that hole and the rod over
+    // the first one's left part: the rod (OTHER), its detached shadow, the box's attached one.
+    // Measured over rows 110..370 (shares of the columns): the rod's shadow detached 0.000 →
+    // 0.997, the rod attached 1.000 → 0.085, the box's shadow past it attached 0.997 → 0.977.
+    let mut scene = Scene::box_before_wall(1.0, 3.0);
+    let rod = Scene::rod_before_wall(-0.1868, 0.8, 0.01579, 3.0).objects[1].clone();
+    scene.push(
+        "rod",
+        rod.shape,
+        umbra::synth::Material::glossy([0.8, 0.2, 0.2]),
+    );
+    let calib = Calibration::nyu_default();
+    let rows = 110..370;
+    let (mut before, mut after) = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0));
+    for seed in 90..93 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        let share = |labels: &[u8], cols: std::ops::Range<usize>, code: u8| {
+            let n = rows
+                .clone()
+                .flat_map(|v| cols.clone().map(move |u| v * WIDTH + u))
+                .filter(|&i| labels[i] == code)
+                .count();
+            n as f64 / (rows.len() * cols.len()) as f64
+        };
+        let truth = &frame.ir_labels;
+        assert!(
+            share(truth, 128..146, DETACHED) > 0.95
+                && share(truth, 168..187, OTHER) > 0.95
+                && share(truth, 190..195, ATTACHED) > 0.95,
+            "rod shadow, rod, box shadow"
+        );
+        for (out, tally) in [
+            (classify(&calib, &frame), &mut before),
+            (classify_rgb(&calib, &frame), &mut after),
+        ] {
+            let labels = &out.ir_labels;
+            tally.0 += share(labels, 128..146, DETACHED) / 3.0;
+            tally.1 += share(labels, 168..187, ATTACHED) / 3.0;
+            tally.2 += share(labels, 190..195, ATTACHED) / 3.0;
+        }
+    }
+    assert!(before.0 < 0.1, "depth alone pairs nothing: {before:?}");
+    assert!(after.0 >= 0.9, "the rod's shadow: {before:?} -> {after:?}");
+    assert!(
+        after.1 <= 0.1,
+        "the rod called attached: {before:?} -> {after:?}"
+    );
+    assert!(after.2 >= 0.9, "the box's shadow past the rod: {after:?}");
+}
+
 /// Pushes onto `scene` an upright black box (a poster, a panel, a strip) named `name`, centred
 /// at `centre` with half extents `half` (metres).
 fn push_black_box(scene: &mut Scene, name: &'static str, centre: [f64; 3], half: [f64; 3]) {

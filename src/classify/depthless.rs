@@ -44,6 +44,7 @@ mod left_border;
 mod offimage;
 mod pairs;
 mod patch;
+mod rod_in_shadow;
 mod unlike;
 
 /// Narrowest merged hole considered (pixels): a shadow and an occluder of 5 px each. Narrower
@@ -415,6 +416,7 @@ impl ColourSplit {
                             (a, b),
                             &mut prefix,
                         )
+                        && !self.rod_in_shadow(raw, rgb, labels, filled, v, (a, b))
                     {
                         // Last: a split above may leave a depthless occluder, nearer than Sa,
                         // whose face the RGB camera sees over the shadow at Sa's depth.
