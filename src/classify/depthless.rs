@@ -117,6 +117,13 @@ const PALETTE: usize = 16;
 /// occluder a third of its shift left of its hole, over the wall there (a black rod crossing a
 /// wall put its own colour into the palette, and the black box beside it was called wall).
 const PALETTE_CLEAR: usize = 12;
+/// How near (in halves of the colour step) a column's colour must come to one of the wall's
+/// palette samples to count as wall. The samples are single pixels, whose noise alone strays by
+/// tens: at one half, shadows across a checker's squares of two dim blues were cut at the first
+/// square's edge (the fourth simulator: complex IR attached F1 +0.15 summed over 49 suites at
+/// three halves, simple +0.03, any-shadow precision +0.001 and +0.02; at four halves complex
+/// precision −0.003 more, simple attached −0.0015).
+const PALETTE_MATCH: u32 = 3;
 /// Columns of the background's own colour a closed hole read as an open one must show before
 /// its wall's palette counts ([`ColourSplit::wall_palette`]).
 const PLAIN_FIRST: usize = 3;
@@ -1469,13 +1476,14 @@ impl ColourSplit {
         let spread = spread_of();
         // An open hole's first run of other columns ends its shadow: on a patterned wall that is
         // the pattern's next patch unless columns showing a colour the wall itself shows left of
-        // the hole (within half a step of one of a few samples) count as wall, up to the first
-        // column unlike the wall and all of its colours: the occluder, past which the RGB camera
-        // may see the wall's other colours again. A closed hole read as an open one (its sides
-        // differ in hue or light) must first show the background's own colour over three
-        // columns: a rod's shadow lying on a wall's other hue from its first column was all
-        // excused so, and came out 3 px too wide (the sensor's widening of its left end then
-        // reads as a larger shift); over three columns the shadow's start is read plainly.
+        // the hole (within [`PALETTE_MATCH`] half steps of one of a few samples) count as wall,
+        // up to the first column unlike the wall and all of its colours: the occluder, past
+        // which the RGB camera may see the wall's other colours again. A closed hole read as an
+        // open one (its sides differ in hue or light) must first show the background's own
+        // colour over three columns: a rod's shadow lying on a wall's other hue from its first
+        // column was all excused so, and came out 3 px too wide (the sensor's widening of its
+        // left end then reads as a larger shift); over three columns the shadow's start is read
+        // plainly.
         // (The fourth simulator: complex IR attached F1 +0.016 summed over 28 suites, j6
         // +0.0064, j1r +0.0037; this project's suites unchanged.)
         // (Read once, and only when a column strays from the background by a step.)
@@ -1503,7 +1511,10 @@ impl ColourSplit {
                 return d;
             };
             let (qs, m) = palette.get_or_init(|| self.wall_palette(raw, rgb, v, w, c.bg));
-            if qs[..*m].iter().any(|&q| hue_dist(p, q) < step / 2) {
+            if qs[..*m]
+                .iter()
+                .any(|&q| 2 * hue_dist(p, q) < PALETTE_MATCH * step)
+            {
                 0
             } else {
                 occluder_seen.set(true);
