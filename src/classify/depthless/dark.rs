@@ -161,7 +161,7 @@ impl ColourSplit {
         let bg = sa.max(sb);
         let far = |r: u16| self.disp(r) - self.disp(bg) < SAME_SURFACE;
         let mut side = i32::MAX;
-        // Sa's side has the hole right of it; Sb's the row on.
+        // Right of Sa's side lies the hole itself; right of Sb's, GUARD pixels must be clear.
         for (on_bg, px, clear) in [
             (far(sa), a - SIDE..a, a - SIDE..a),
             (far(sb), b..b + SIDE, b..b + SIDE + GUARD),
