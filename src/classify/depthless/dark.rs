@@ -159,6 +159,11 @@ impl ColourSplit {
         // GUARD pixels right of a side hides it (the RGB camera sees near objects shifted left),
         // and a thin lit gap beside the occluder would read the occluder's colour.
         let bg = sa.max(sb);
+        // Cheapest first: most detached holes lie on a lit wall, which their middle shows.
+        let (x, y) = self.project((a + b) as f64 / 2.0, v, bg);
+        if super::rgb_at(rgb, x, y).is_none_or(|p| p.iter().sum::<i32>() >= BLACK) {
+            return;
+        }
         let far = |r: u16| self.disp(r) - self.disp(bg) < SAME_SURFACE;
         let mut side = i32::MAX;
         // Right of Sa's side lies the hole itself; right of Sb's, GUARD pixels must be clear.

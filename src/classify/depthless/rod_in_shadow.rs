@@ -105,20 +105,22 @@ impl ColourSplit {
         };
         let step = self.dimmed(COLOUR_STEP, wall);
         // Most probes (the camera's noise, a glossy rod's highlight) plainly so.
+        // (Read until a quarter of them have said no: most attached holes are no rod's.)
         let most = |cols: std::ops::Range<usize>, raw: u16, like: bool| {
-            let (mut yes, mut n) = (0, 0);
+            let n = cols.len().div_ceil(2);
+            let mut no = 0;
             for u in cols.step_by(2) {
                 let Some(p) = self.probe(rgb, u, v, raw) else {
                     return false;
                 };
-                yes += usize::from((hue_dist(p, wall) < step) == like);
-                n += 1;
+                no += usize::from((hue_dist(p, wall) < step) != like);
+                if 4 * no > n {
+                    return false;
+                }
             }
-            n > 0 && 4 * yes >= 3 * n
+            n > 0
         };
-        let shadow_like_wall = most(h0a + 1..h0b - 1, sa, true);
-        let rod_unlike_wall = most(a + 1..a + rod - 1, at, false);
-        if !shadow_like_wall || !rod_unlike_wall {
+        if !most(a + 1..a + rod - 1, at, false) || !most(h0a + 1..h0b - 1, sa, true) {
             return false;
         }
         // The rod's right edge: where the RGB camera stops seeing it (a round rod's shadow may be
