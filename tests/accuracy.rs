@@ -2381,7 +2381,9 @@ fn black_rod_before_a_wall_of_two_hues_has_its_attached_shadow_split_off() {
     // of its 582.62·0.037/2.2 = 9.8 px; its hole is about 15 px. A band edge lies behind the
     // rod's axis, so the wall left of the hole is one purple and right of it the other: the
     // two sides differ, as two surfaces would, where only the wall's pattern changes.
-    // Measured: attached F1 0.925 (0.712 when such a hole was read only where its sides agree).
+    // Measured: attached F1 0.934 (0.712 when such a hole was read only where its sides agree;
+    // 0.925 while three columns of the left side's own colour were wanted before the wall's
+    // other colours counted).
     let (x_rod, z_rod, z_wall) = (-0.2, 2.2, 2.9);
     let edge = x_rod * z_wall / z_rod;
     let mut scene = Scene::new("black rod before a wall of two hues");
@@ -2419,11 +2421,11 @@ fn black_rod_before_a_wall_of_two_hues_has_its_attached_shadow_split_off() {
     at_least(
         &with_rgb,
         Some(ATTACHED),
-        0.9,
+        0.93,
         "IR attached of a black rod before a wall of two hues",
     );
     let any = with_rgb.any_shadow();
-    // (Precision 0.970: the split's edge a pixel into the rod in some rows.)
+    // (Precision 0.956: the split's edge a pixel into the rod in some rows.)
     assert!(any.precision.unwrap() >= 0.95, "IR any shadow {any:?}");
 }
 

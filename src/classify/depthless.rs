@@ -125,8 +125,11 @@ const PALETTE_CLEAR: usize = 12;
 /// precision −0.003 more, simple attached −0.0015).
 const PALETTE_MATCH: u32 = 3;
 /// Columns of the background's own colour a closed hole read as an open one must show before
-/// its wall's palette counts ([`ColourSplit::wall_palette`]).
-const PLAIN_FIRST: usize = 3;
+/// its wall's palette counts ([`ColourSplit::wall_palette`]). Three until the palette's match
+/// widened to [`PALETTE_MATCH`]; two then gained complex IR attached F1 +0.0075 and simple
+/// +0.012 summed over 51 suites (one: +0.012 more, but a black rod before bands of two hues came
+/// out wide again, its any-shadow precision 0.964 → 0.942).
+const PLAIN_FIRST: usize = 2;
 /// Valid runs this short inside a hole are noise, stepped over.
 const MAX_ISLAND: usize = 2;
 /// The occluder's left edge (hole start plus shadow width) may move by this much (pixels) from
@@ -1480,10 +1483,10 @@ impl ColourSplit {
         // up to the first column unlike the wall and all of its colours: the occluder, past
         // which the RGB camera may see the wall's other colours again. A closed hole read as an
         // open one (its sides differ in hue or light) must first show the background's own
-        // colour over three columns: a rod's shadow lying on a wall's other hue from its first
-        // column was all excused so, and came out 3 px too wide (the sensor's widening of its
-        // left end then reads as a larger shift); over three columns the shadow's start is read
-        // plainly.
+        // colour over [`PLAIN_FIRST`] columns: a rod's shadow lying on a wall's other hue from
+        // its first column was all excused so, and came out 3 px too wide (the sensor's widening
+        // of its left end then reads as a larger shift); over two columns the shadow's start is
+        // read plainly.
         // (The fourth simulator: complex IR attached F1 +0.016 summed over 28 suites, j6
         // +0.0064, j1r +0.0037; this project's suites unchanged.)
         // (Read once, and only when a column strays from the background by a step.)
