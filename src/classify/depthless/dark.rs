@@ -69,41 +69,28 @@ impl ColourSplit {
         {
             return;
         }
-        // Sa's side, seen at Sa's depth: the mean of its probes.
-        let mut side = 0;
-        for u in a - SIDE..a {
-            let Some(p) = self.probe(rgb, u, v, sa) else {
-                return;
-            };
-            side += p.iter().sum::<i32>();
-        }
-        let side = side / SIDE as i32;
+        // Sa's side, seen at Sa's depth.
+        let Some(side) = self.side_brightness(rgb, v, a - SIDE..a, sa) else {
+            return;
+        };
         if side < LIT_SIDE {
             return;
         }
         let occluder_x = self.project(b as f64 - 0.5, v, sb).0 - BEFORE_EDGE;
-        // Dark pixels of the visible part, a bit per pixel from `a`. Over a hole the projection
-        // is linear in the column to well under a pixel: two divisions, not one per pixel.
-        let (xa, ya) = self.project(a as f64, v, sa);
-        let (xb, yb) = self.project(b as f64, v, sa);
-        let span = (b - a) as f64;
-        let (dx, dy) = ((xb - xa) / span, (yb - ya) / span);
+        // Dark pixels of the visible part, a bit per pixel from `a`.
         let mut dark = 0u128;
         let mut black = 0u128;
         let mut seen = 0;
-        for u in a..b {
-            let k = (u - a) as f64;
-            let (x, y) = (xa + k * dx, ya + k * dy);
-            if x > occluder_x {
-                break;
-            }
-            let Some(p) = super::rgb_at(rgb, x, y) else {
+        for (j, c) in self
+            .brightness_along(rgb, v, (a, b), sa, occluder_x)
+            .enumerate()
+        {
+            let Some(c) = c else {
                 break;
             };
-            let c = p.iter().sum::<i32>();
             let d = TIMES_DARKER * c < side && side - c > MIN_STEP;
-            dark |= u128::from(d) << (u - a);
-            black |= u128::from(d && c < BLACK) << (u - a);
+            dark |= u128::from(d) << j;
+            black |= u128::from(d && c < BLACK) << j;
             seen += 1;
         }
         let mut k = 0;
@@ -180,14 +167,10 @@ impl ColourSplit {
             {
                 return;
             }
-            let mut sum = 0;
-            for u in px {
-                let Some(p) = self.probe(rgb, u, v, bg) else {
-                    return;
-                };
-                sum += p.iter().sum::<i32>();
-            }
-            side = side.min(sum / SIDE as i32);
+            let Some(lit) = self.side_brightness(rgb, v, px, bg) else {
+                return;
+            };
+            side = side.min(lit);
         }
         if side < LIT_SIDE {
             return;
@@ -198,23 +181,13 @@ impl ColourSplit {
         } else {
             f64::INFINITY
         };
-        let (xa, ya) = self.project(a as f64, v, bg);
-        let (xb, yb) = self.project(b as f64, v, bg);
-        let span = (b - a) as f64;
-        let (dx, dy) = ((xb - xa) / span, (yb - ya) / span);
         // The black run, bar up to EDGE pixels at either end: a sliver of the shadow on the
         // lit wall past the poster's edge, or the edge's blend.
         let (mut first, mut last, mut seen) = (None, 0, 0);
-        for u in a..b {
-            let k = (u - a) as f64;
-            let (x, y) = (xa + k * dx, ya + k * dy);
-            if x > to_x {
-                break;
-            }
-            let Some(p) = super::rgb_at(rgb, x, y) else {
+        for (u, c) in (a..b).zip(self.brightness_along(rgb, v, (a, b), bg, to_x)) {
+            let Some(c) = c else {
                 return;
             };
-            let c = p.iter().sum::<i32>();
             seen += 1;
             if TIMES_DARKER * c < side && side - c > MIN_STEP && c < BLACK {
                 if first.is_none() {
@@ -236,5 +209,44 @@ impl ColourSplit {
             let to = if a + seen < b { b } else { last + 1 };
             labels[row + first..row + to].fill(OTHER);
         }
+    }
+
+    /// The mean brightness (R + G + B) of the probes of IR pixels `px` of row `v` at raw value
+    /// `raw`, if all lie inside the RGB image.
+    fn side_brightness(
+        &self,
+        rgb: &[u8],
+        v: usize,
+        px: std::ops::Range<usize>,
+        raw: u16,
+    ) -> Option<i32> {
+        let n = px.len() as i32;
+        let mut sum = 0;
+        for u in px {
+            sum += self.probe(rgb, u, v, raw)?.iter().sum::<i32>();
+        }
+        Some(sum / n)
+    }
+
+    /// The brightness (R + G + B) of the RGB pixel over each IR pixel of `[a, b)` in row `v` at
+    /// raw value `raw`, from `a` on while the RGB column stays at or left of `to_x` (`None`
+    /// outside the image). Over a hole the projection is linear in the column to well under a
+    /// pixel: two divisions, not one per pixel.
+    fn brightness_along<'a>(
+        &'a self,
+        rgb: &'a [u8],
+        v: usize,
+        (a, b): (usize, usize),
+        raw: u16,
+        to_x: f64,
+    ) -> impl Iterator<Item = Option<i32>> + 'a {
+        let (xa, ya) = self.project(a as f64, v, raw);
+        let (xb, yb) = self.project(b as f64, v, raw);
+        let span = (b - a) as f64;
+        let (dx, dy) = ((xb - xa) / span, (yb - ya) / span);
+        (0..b - a)
+            .map(move |k| (xa + k as f64 * dx, ya + k as f64 * dy))
+            .take_while(move |&(x, _)| x <= to_x)
+            .map(|(x, y)| super::rgb_at(rgb, x, y).map(|p| p.iter().sum::<i32>()))
     }
 }
