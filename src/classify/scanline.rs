@@ -2125,21 +2125,25 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
     // Or the surface before the shadow alone draws it (at the border nothing lies past the
     // occluder), over a run long enough not to take a thin object there for the wall: two
     // runs of a few pixels draw a line through any two rods before a region beyond range.
+    // (Read at most once: the border test below asks again.)
+    let before = std::cell::OnceCell::new();
     let before_line = || {
-        let run = raw[..h.start]
-            .iter()
-            .rev()
-            .take(SLANT_RUN)
-            .take_while(|&&r| r != NO_DEPTH)
-            .count();
-        (narrow && run >= SLANT_RUN)
-            .then(|| gap_line(p, raw, h.start - run, h.start))
-            .flatten()
+        *before.get_or_init(|| {
+            let run = raw[..h.start]
+                .iter()
+                .rev()
+                .take(SLANT_RUN)
+                .take_while(|&&r| r != NO_DEPTH)
+                .count();
+            narrow
+                && run >= SLANT_RUN
+                && gap_line(p, raw, h.start - run, h.start).is_some_and(on_plane)
+        })
     };
     let sides = on_one(&level)
         || gap_line(p, raw, h.end, start).is_some_and(on_plane)
         || (!at_border && past_line().is_some_and(on_plane))
-        || before_line().is_some_and(on_plane);
+        || before_line();
     if !sides {
         return None;
     }
@@ -2149,7 +2153,7 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
     // On a slanted wall, the line the surface before the shadow draws must reach the gap.
     if at_border
         && (p.disp(raw[start - 1]) - p.disp(raw[h.start - 1])).abs() >= p.min_step
-        && !before_line().is_some_and(on_plane)
+        && !before_line()
     {
         return None;
     }
@@ -2643,6 +2647,19 @@ mod tests {
         assert_eq!(filled[275], raw_at(&c, 3.0));
     }
 
+    /// The side wall of the slanted-wall tests below, turned away from the camera: 1/z(x) = 1/3 +
+    /// β·(x − 400) over [300, 640), with f·b·β = 0.06 px of disparity per column (left of 300, a
+    /// wall at 4.6 m), and where a projector ray past a rod at 0.8 m meets it: from column x_o on
+    /// the rod, x_s = (x_o − f·b·(1/0.8 − α)) / (1 − f·b·β) with α = 1/3 − 400·β.
+    fn side_wall(fb: f64) -> (impl Fn(usize) -> f64, impl Fn(f64) -> f64) {
+        let beta = 0.06 / fb;
+        let alpha = 1.0 / 3.0 - 400.0 * beta;
+        (
+            move |x: usize| alpha + beta * x.max(300) as f64,
+            move |x_o: f64| (x_o - fb * (1.0 / 0.8 - alpha)) / (1.0 - fb * beta),
+        )
+    }
+
     #[test]
     fn depthless_rods_shadow_on_a_slanted_side_wall_is_detached() {
         // A side wall turned away from the camera: on a plane 1/z is affine in the column,
@@ -2654,10 +2671,7 @@ mod tests {
         // the rod.
         let (c, _) = params();
         let fb = c.fb();
-        let beta = 0.06 / fb;
-        let alpha = 1.0 / 3.0 - 400.0 * beta;
-        let inv_z = |x: usize| alpha + beta * x.max(300) as f64;
-        let x_s = |x_o: f64| (x_o - fb * (1.0 / 0.8 - alpha)) / (1.0 - fb * beta);
+        let (inv_z, x_s) = side_wall(fb);
         let (from, to) = (x_s(460.0), x_s(470.0));
         assert!((from - 421.2).abs() < 0.05 && (to - 431.9).abs() < 0.05);
         let shadow = from.floor() as usize..to.ceil() as usize;
@@ -2701,10 +2715,7 @@ mod tests {
         // draws the line.
         let (c, _) = params();
         let fb = c.fb();
-        let beta = 0.06 / fb;
-        let alpha = 1.0 / 3.0 - 400.0 * beta;
-        let inv_z = |x: usize| alpha + beta * x.max(300) as f64;
-        let x_s = |x_o: f64| (x_o - fb * (1.0 / 0.8 - alpha)) / (1.0 - fb * beta);
+        let (inv_z, x_s) = side_wall(fb);
         let wall: Vec<u16> = (0..WIDTH).map(|x| raw_at(&c, 1.0 / inv_z(x))).collect();
         for (rod, shadow) in [(460..490, (421.2, 453.1)), (630..WIDTH, (602.1, 623.3))] {
             let to = if rod.end == WIDTH {
