@@ -1293,9 +1293,9 @@ impl ColourSplit {
     /// Up to [`PALETTE`] colours the RGB camera sees on the wall at IR pixels `wall` of row `v`,
     /// evenly spread over it: single pixels, of those on the background (raw value `bg`, within
     /// [`SAME_SURFACE`]; a farther wall or an object beside it is no part of its pattern).
-    fn wall_palette(
+    pub(super) fn wall_palette(
         &self,
-        raw: &[u16],
+        row: &[u16],
         rgb: &[u8],
         v: usize,
         wall: std::ops::Range<usize>,
@@ -1305,7 +1305,7 @@ impl ColourSplit {
         let step = (wall.len() / PALETTE).max(1);
         let d_bg = self.disp(bg);
         for u in wall.step_by(step) {
-            let r = raw[v * WIDTH + u];
+            let r = row[u];
             // Left of a hole the RGB camera may see its depthless occluder over the wall.
             if out.1 == PALETTE
                 || r == NO_DEPTH
@@ -1513,7 +1513,9 @@ impl ColourSplit {
             let Some(w) = wall.clone() else {
                 return d;
             };
-            let (qs, m) = palette.get_or_init(|| self.wall_palette(raw, rgb, v, w, c.bg));
+            let (qs, m) = palette.get_or_init(|| {
+                self.wall_palette(&raw[v * WIDTH..(v + 1) * WIDTH], rgb, v, w, c.bg)
+            });
             if qs[..*m]
                 .iter()
                 .any(|&q| 2 * hue_dist(p, q) < PALETTE_MATCH * step)
