@@ -1635,6 +1635,17 @@ fn beyond_range(
     // out of range there, not a shadow) is out of range too.
     const NEAR_LIMIT: f32 = 3.0;
     for (i, l) in labels[h.start..h.end].iter_mut().enumerate() {
+        // Where the rows above show a surface measured as far as the range's end in this
+        // column (a back wall), the receding one meets it in a corner: no more leaving the range.
+        // (A box's shadow across such a corner was OTHER from its first row down. The fourth
+        // simulator's 40 suites: complex IR attached F1 +0.045 summed, j39 +0.024, j3 +0.013;
+        // any-shadow precision +0.005, recall +0.059; the rest, the real frame unchanged.)
+        if above
+            .get(h.start + i)
+            .is_some_and(|&q| q != NO_DEPTH && q + SAME >= limit)
+        {
+            continue;
+        }
         let at = base + slope * (i + 1) as f32;
         let out = at > f32::from(far) + 0.5
             || (at > f32::from(limit) + 0.5 && above.get(h.start + i) == Some(&NO_DEPTH))
