@@ -1540,10 +1540,6 @@ impl ColourSplit {
             .flatten()
             .filter(|&m| hue_dist(m, bg) >= CONTRAST_SHARE * step);
         let occluder_colour = contrasting.filter(|_| !c.closed);
-        let matches = |qs: &[[i32; 3]], p: [i32; 3]| {
-            qs.iter()
-                .any(|&q| 2 * hue_dist(p, q) < PALETTE_MATCH * step)
-        };
         let dist = |k: usize| {
             let p = colour(k);
             let d = hue_dist(p, bg);
@@ -1577,10 +1573,10 @@ impl ColourSplit {
                 self.wall_palette(&raw[v * WIDTH..(v + 1) * WIDTH], rgb, v, w, c.bg)
             });
             let qs = &qs[..*m];
-            if c.closed && contrasting.is_some_and(|o| matches(qs, o)) {
+            if c.closed && contrasting.is_some_and(|o| in_palette(qs, o, step)) {
                 return d;
             }
-            if matches(qs, p) {
+            if in_palette(qs, p, step) {
                 0
             } else {
                 occluder_seen.set(true);
@@ -1879,6 +1875,13 @@ fn dist(p: [i32; 3], q: [i32; 3]) -> u32 {
 pub(crate) fn hue_dist(p: [i32; 3], q: [i32; 3]) -> u32 {
     let hue = (p[0] - p[1]).abs_diff(q[0] - q[1]) + (p[2] - p[1]).abs_diff(q[2] - q[1]);
     dist(p, q) + 2 * hue
+}
+
+/// True when colour `p` lies within [`PALETTE_MATCH`] half steps (`step`, the colour step) of
+/// one of the wall's palette samples `qs` ([`ColourSplit::wall_palette`]).
+fn in_palette(qs: &[[i32; 3]], p: [i32; 3], step: u32) -> bool {
+    qs.iter()
+        .any(|&q| 2 * hue_dist(p, q) < PALETTE_MATCH * step)
 }
 
 /// `x.round()` as an integer, without the libm call the baseline x86-64 target makes for it

@@ -47,7 +47,7 @@ pub struct ScanParams {
 
 /// The nearest the sensor's range can end (metres). A frame's farthest value stands for that end
 /// only beyond it: where a black box hides the rest of a receding back wall, its last measured
-/// pixels (3.7 m) were taken for the range's end and the box's shadow on it for a wall leaving
+/// pixels (3.4 m) were taken for the range's end and the box's shadow on it for a wall leaving
 /// the range, OTHER. The Kinect v1 measures to 4 m and more (the other simulator ends its range
 /// at 4.0–5.0 m, this project's at 4.5 m): a floor at 4.0 m lost shadows in one suite whose
 /// range ends there, at 3.5 m none. (Fourth simulator, 40 suites: complex IR attached F1
@@ -498,7 +498,8 @@ impl Range {
         Range { far, limit: far }
     }
 
-    /// This range, or one ending at `floor` where it ends nearer (see [`MIN_RANGE_M`]).
+    /// This range, or one ending at `floor` where it ends nearer: no sensor's range ends short
+    /// of 3.5 m, so a nearer farthest value is merely the frame's farthest surface.
     pub fn at_least(self, floor: u16) -> Range {
         if self.far < floor {
             Range::at(floor)

@@ -29,7 +29,7 @@
 
 use super::Range;
 use super::{
-    hole_span, hue_dist, ColourSplit, COLOUR_STEP, MAX_ISLAND, OPEN_WINDOW, PALETTE_MATCH,
+    hole_span, hue_dist, in_palette, ColourSplit, COLOUR_STEP, MAX_ISLAND, OPEN_WINDOW,
     SAME_SURFACE, SIDE, SIDES_AGREE, SPREAD_NUM, SPREAD_SPAN,
 };
 use crate::labels::{HEIGHT, NO_DEPTH, WIDTH};
@@ -351,11 +351,7 @@ impl ColourSplit {
                 return false;
             };
             if hue_dist(p, last) < step
-                || (shaded
-                    && seen > 0
-                    && palette()
-                        .iter()
-                        .any(|&q| 4 * hue_dist(p, q) < PALETTE_MATCH * step))
+                || (shaded && seen > 0 && in_palette(palette(), p, step / 2))
             {
                 seen += 1;
                 blended = 0;
