@@ -408,6 +408,45 @@ fn slanted_detached_shadow_of_a_rod_beyond_the_right_border_is_told_by_colour() 
     );
 }
 
+#[test]
+fn detached_shadow_of_a_rod_beyond_the_right_border_on_a_banded_wall_is_told_by_colour() {
+    // A wall at 3.5 m in olive bands 10 cm wide (16.6 px), light and a third darker, and a grey
+    // rod (r = 1.6 cm, 18.6 px) at 1 m whose left edge stands just past the border (column 645):
+    // its shadow, shifted f·b·(1/1 − 1/3.5) ≈ 31.2 px, covers columns 614–632, the lit wall
+    // after it runs to the border. A band's edge lies at column 619: the wall beside the hole
+    // is light, most of the shadow dark. The RGB camera sees the rod a third of the shift left
+    // of where the IR camera would, over the shadow's right end, so the shadow's part must
+    // show the wall; held to the light band beside the hole it did not, though the wall left
+    // of the hole shows both bands. Measured (seeds 40–41): detached F1 0.014 → 0.788 (the
+    // rest lost where the stretch further left crosses a band's edge).
+    let calib = Calibration::nyu_default();
+    let (light, dark) = ([0.45, 0.38, 0.22], [0.30, 0.25, 0.14]);
+    let (width, z) = (0.1, 3.5);
+    let edge = (619.0 - calib.depth.cx) / calib.depth.fx * z;
+    let mut scene = Scene::new("rod beyond the right border before a banded wall");
+    for k in -40i32..10 {
+        scene.push(
+            "wall",
+            umbra::synth::Shape::Box {
+                centre: umbra::synth::V3::new(edge + width * (f64::from(k) + 0.5), 0.0, z + 0.05),
+                half: umbra::synth::V3::new(width / 2.0, 3.0, 0.05),
+                yaw: 0.0,
+            },
+            umbra::synth::Material::matte(if k % 2 == 0 { dark } else { light }),
+        );
+    }
+    let radius = 0.016;
+    let left = (645.0 - calib.depth.cx) / calib.depth.fx;
+    push_grey_rod(&mut scene, left + radius, 1.0, radius);
+    let c = kinect_confusion(&scene, &calib, 40, false);
+    at_least(
+        &c,
+        Some(DETACHED),
+        0.75,
+        "IR detached of a rod beyond the border on a banded wall",
+    );
+}
+
 /// A matte blue panel 1 cm thick, its front face 1 m away, from x = `x_edge` to 1 m past it and
 /// 0.6 m tall (rows 65 to 415 or so), before a wall at 3 m. (Were it as tall as the view, its
 /// shadow would end every row in a hole as a real sensor's dead band does, and be left alone.)
