@@ -1335,6 +1335,19 @@ impl ColourSplit {
         wall: std::ops::Range<usize>,
         bg: u16,
     ) -> ([[i32; 3]; PALETTE], usize) {
+        self.wall_palette_clear(row, rgb, v, wall, bg, PALETTE_CLEAR)
+    }
+
+    /// [`Self::wall_palette`] with pixels within `clear` of a hole on their right left out.
+    pub(super) fn wall_palette_clear(
+        &self,
+        row: &[u16],
+        rgb: &[u8],
+        v: usize,
+        wall: std::ops::Range<usize>,
+        bg: u16,
+        clear: usize,
+    ) -> ([[i32; 3]; PALETTE], usize) {
         let mut out = ([[0; 3]; PALETTE], 0);
         let step = (wall.len() / PALETTE).max(1);
         let d_bg = self.disp(bg);
@@ -1344,7 +1357,7 @@ impl ColourSplit {
             if out.1 == PALETTE
                 || r == NO_DEPTH
                 || (self.disp(r) - d_bg).abs() > SAME_SURFACE
-                || self.masks[v].next_hole(u) <= u + PALETTE_CLEAR
+                || self.masks[v].next_hole(u) <= u + clear
             {
                 continue;
             }
