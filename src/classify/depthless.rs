@@ -1933,7 +1933,7 @@ fn brightened_into_clipping(l: [i32; 3], r: [i32; 3]) -> bool {
     factor >= 1000
         && factor <= MAX_BRIGHTEN
         && (max == 0 || max - min <= CHROMA_RATIO)
-        && (0..3).all(|k| hi[k] < CLIPPED || lo[k] * factor >= CLIPPED * 1000 - 30_000)
+        && (0..3).all(|k| hi[k] < CLIPPED || lo[k] * factor >= (CLIPPED - CLIP_MARGIN) * 1000)
 }
 
 /// True when `o` is the saturated colour `bg` in more light: brighter, of the same chromaticity
@@ -1957,6 +1957,9 @@ const SATURATED: i32 = 60;
 
 /// Channel value from which a camera pixel counts as clipped.
 const CLIPPED: i32 = 250;
+/// Channel values short of [`CLIPPED`] that a clipped channel, brightened by the factor the
+/// others show, may fall (their noise and rounding).
+const CLIP_MARGIN: i32 = 30;
 /// Largest light factor (thousandths) [`brightened_into_clipping`] allows: a highlight, not a
 /// dark surface's colour washed out.
 const MAX_BRIGHTEN: i32 = 1500;
