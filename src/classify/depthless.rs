@@ -1930,8 +1930,7 @@ fn brightened_into_clipping(l: [i32; 3], r: [i32; 3]) -> bool {
     } else {
         max
     };
-    factor >= 1000
-        && factor <= MAX_BRIGHTEN
+    (1000..=MAX_BRIGHTEN).contains(&factor)
         && (max == 0 || max - min <= CHROMA_RATIO)
         && (0..3).all(|k| hi[k] < CLIPPED || lo[k] * factor >= (CLIPPED - CLIP_MARGIN) * 1000)
 }

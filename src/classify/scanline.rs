@@ -1344,7 +1344,7 @@ fn outward_slope(p: &ScanParams, raw: &[u16], at: usize, dir: isize) -> f32 {
     } else {
         at..=far as usize
     };
-    if raw[span].iter().any(|&r| r == NO_DEPTH) {
+    if raw[span].contains(&NO_DEPTH) {
         return 0.0;
     }
     let px = |k: usize| p.disp(raw[(at as isize + dir * k as isize) as usize]);
