@@ -1744,11 +1744,6 @@ impl ColourSplit {
         let clear = l.shadow_cols >= 2
             && l.occluder_cols >= 2
             && !ramp()
-            // An open hole's occluder that is its background in more light is a glossy surface's
-            // highlight past a dropout on it. (Fourth simulator, 46 suites: complex IR attached
-            // F1 +0.016 summed, precision +0.024; simple +0.009 and +0.014; this project's
-            // suites and the real frame unchanged.)
-            && (c.closed || !highlight_of(mean(occluder.clone()), bg))
             && {
                 let d = hue_dist(mean(0..shadow_read), bg);
                 // Over a textured wall, within the wall's own spread.
@@ -1765,7 +1760,12 @@ impl ColourSplit {
                 // Past the occluder's first column, which may blend it with the shadow.
                 let from = occluder.start + usize::from(occluder.len() >= 3);
                 self.shows_farther_right(raw, rgb, v, c, mean(from..occluder.end))
-            });
+            })
+            // An open hole's occluder that is its background in more light is a glossy surface's
+            // highlight past a dropout on it. (Fourth simulator, 46 suites: complex IR attached
+            // F1 +0.016 summed, precision +0.024; simple +0.009 and +0.014; this project's
+            // suites and the real frame unchanged.)
+            && (c.closed || !highlight_of(mean(occluder.clone()), bg));
         (clear && 10 * l.hits >= 9 * n && l.hits >= no_shadow + l.shadow_cols / 2)
             .then_some((s, shift.unwrap_or(s)))
     }
