@@ -424,17 +424,13 @@ fn detached_shadow_of_a_rod_beyond_the_right_border_on_a_banded_wall_is_told_by_
     let (width, z) = (0.1, 3.5);
     let edge = (619.0 - calib.depth.cx) / calib.depth.fx * z;
     let mut scene = Scene::new("rod beyond the right border before a banded wall");
-    for k in -40i32..10 {
-        scene.push(
-            "wall",
-            umbra::synth::Shape::Box {
-                centre: umbra::synth::V3::new(edge + width * (f64::from(k) + 0.5), 0.0, z + 0.05),
-                half: umbra::synth::V3::new(width / 2.0, 3.0, 0.05),
-                yaw: 0.0,
-            },
-            umbra::synth::Material::matte(if k % 2 == 0 { dark } else { light }),
-        );
-    }
+    push_bands(&mut scene, (edge, width, z), -40..10, |k| {
+        if k % 2 == 0 {
+            dark
+        } else {
+            light
+        }
+    });
     let radius = 0.016;
     let left = (645.0 - calib.depth.cx) / calib.depth.fx;
     push_grey_rod(&mut scene, left + radius, 1.0, radius);
@@ -1160,18 +1156,13 @@ fn chain_of_dropouts_on_a_banded_wall_holds_no_detached_shadow() {
     let (green, mauve) = ([0.4, 0.6, 0.3], [0.6, 0.35, 0.5]);
     let band = 29.0;
     let mut scene = Scene::new("dropouts on a banded wall");
-    for k in -10i32..20 {
-        let u0 = 200.0 + band * f64::from(k);
-        scene.push(
-            "wall",
-            umbra::synth::Shape::Box {
-                centre: umbra::synth::V3::new(x_of(u0 + band / 2.0), 0.0, z + 0.05),
-                half: umbra::synth::V3::new(band * per_px / 2.0, 3.0, 0.05),
-                yaw: 0.0,
-            },
-            umbra::synth::Material::matte(if k % 2 == 0 { green } else { mauve }),
-        );
-    }
+    push_bands(&mut scene, (x_of(200.0), band * per_px, z), -10..20, |k| {
+        if k % 2 == 0 {
+            green
+        } else {
+            mauve
+        }
+    });
     for (u0, colour) in [(267.5, green), (296.5, mauve), (325.5, green)] {
         scene.push(
             "dropout",
@@ -1765,6 +1756,25 @@ fn push_box(
         },
         material,
     );
+}
+
+/// Papers a wall whose face lies at `z` m (boxes 10 cm deep behind it) in vertical bands
+/// `width` m wide: band `k` of `bands` starts at x = `edge + k·width`, in the colour `colour(k)`.
+fn push_bands(
+    scene: &mut Scene,
+    (edge, width, z): (f64, f64, f64),
+    bands: std::ops::Range<i32>,
+    colour: impl Fn(i32) -> [f64; 3],
+) {
+    for k in bands {
+        push_box(
+            scene,
+            "wall",
+            [edge + width * (f64::from(k) + 0.5), 0.0, z + 0.05],
+            [width / 2.0, 3.0, 0.05],
+            umbra::synth::Material::matte(colour(k)),
+        );
+    }
 }
 
 /// `scene` rendered with the noisy Kinect sensor for each seed (each frame first handed to
@@ -2630,17 +2640,9 @@ fn glossy_cylinder_before_bands(
     seeds: std::ops::Range<u64>,
 ) -> Confusion {
     let mut scene = Scene::new("glossy cylinder before bands");
-    for k in -12i32..12 {
-        scene.push(
-            "wall",
-            umbra::synth::Shape::Box {
-                centre: umbra::synth::V3::new(edge + width * (f64::from(k) + 0.5), 0.0, 3.05),
-                half: umbra::synth::V3::new(width / 2.0, 3.0, 0.05),
-                yaw: 0.0,
-            },
-            umbra::synth::Material::matte(colours[k.rem_euclid(colours.len() as i32) as usize]),
-        );
-    }
+    push_bands(&mut scene, (edge, width, 3.0), -12..12, |k| {
+        colours[k.rem_euclid(colours.len() as i32) as usize]
+    });
     scene.push(
         "cylinder",
         umbra::synth::Shape::Cylinder {
@@ -2675,18 +2677,10 @@ fn black_box_before_a_wall_of_wide_bands_has_its_shadow_split_off() {
 fn black_box_before_a_banded_wall(width: f64, edge: f64, dark: f64) {
     let mut scene = Scene::new("black box before a banded wall");
     let green = [0.4, 0.6, 0.3];
-    for k in -50..50 {
+    push_bands(&mut scene, (edge, width, 3.0), -50..50, |k| {
         let light = if k % 2 == 0 { 1.0 } else { dark };
-        scene.push(
-            "wall",
-            umbra::synth::Shape::Box {
-                centre: umbra::synth::V3::new(edge + width * (f64::from(k) + 0.5), 0.0, 3.05),
-                half: umbra::synth::V3::new(width / 2.0, 3.0, 0.05),
-                yaw: 0.0,
-            },
-            umbra::synth::Material::matte(green.map(|c| c * light)),
-        );
-    }
+        green.map(|c| c * light)
+    });
     assert_black_box_split_as_by_hand(scene, 0.2);
 }
 
@@ -2705,18 +2699,9 @@ fn black_box_before_a_wall_of_two_hues_keeps_its_shadow_across_a_band_edge() {
     let calib = Calibration::nyu_default();
     let edge = -0.928 - 0.21;
     let mut scene = Scene::new("black box before a wall of two hues");
-    for k in -20..20 {
-        let green = if k % 2 == 0 { 0.35 } else { 0.25 };
-        scene.push(
-            "wall",
-            umbra::synth::Shape::Box {
-                centre: umbra::synth::V3::new(edge + 0.21 * (f64::from(k) + 0.5), 0.0, 3.05),
-                half: umbra::synth::V3::new(0.105, 3.0, 0.05),
-                yaw: 0.0,
-            },
-            umbra::synth::Material::matte([0.45, green, 0.6]),
-        );
-    }
+    push_bands(&mut scene, (edge, 0.21, 3.0), -20..20, |k| {
+        [0.45, if k % 2 == 0 { 0.35 } else { 0.25 }, 0.6]
+    });
     push_black_box(&mut scene, "box", [0.0, 0.0, 1.1], [0.28, 0.25, 0.1]);
     let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 8);
     let out = classify_rgb(&calib, &frame);
@@ -2748,26 +2733,13 @@ fn black_rod_before_a_boldly_banded_wall_has_its_attached_shadow_split_off() {
     // Measured: IR attached F1 0.500 → 0.965 once one and a half times that suffices.
     let (x_rod, z_rod, z_wall) = (-0.2, 1.5, 2.31);
     let mut scene = Scene::new("black rod before a boldly banded wall");
-    for k in -10..10 {
-        let colour = if k % 2 == 0 {
+    push_bands(&mut scene, (-0.33, 0.12, z_wall), -10..10, |k| {
+        if k % 2 == 0 {
             [1.0, 0.35, 1.0]
         } else {
             [0.5, 0.18, 0.45]
-        };
-        scene.push(
-            "wall",
-            umbra::synth::Shape::Box {
-                centre: umbra::synth::V3::new(
-                    -0.33 + 0.12 * (f64::from(k) + 0.5),
-                    0.0,
-                    z_wall + 0.05,
-                ),
-                half: umbra::synth::V3::new(0.06, 3.0, 0.05),
-                yaw: 0.0,
-            },
-            umbra::synth::Material::matte(colour),
-        );
-    }
+        }
+    });
     let rod = Scene::rod_before_wall(x_rod, z_rod, 0.0165, z_wall).objects[1].clone();
     scene.push("rod", rod.shape, umbra::synth::Material::black());
     let (depth_only, with_rgb) = with_and_without_colour(&scene, 70..73, false, |_| {});
@@ -2798,22 +2770,9 @@ fn black_rod_before_a_wall_of_two_hues_has_its_attached_shadow_split_off() {
     let (x_rod, z_rod, z_wall) = (-0.2, 2.2, 2.9);
     let edge = x_rod * z_wall / z_rod;
     let mut scene = Scene::new("black rod before a wall of two hues");
-    for k in -40..40 {
-        let green = if k % 2 == 0 { 0.25 } else { 0.35 };
-        scene.push(
-            "wall",
-            umbra::synth::Shape::Box {
-                centre: umbra::synth::V3::new(
-                    edge + 0.06 * (f64::from(k) - 0.5),
-                    0.0,
-                    z_wall + 0.05,
-                ),
-                half: umbra::synth::V3::new(0.03, 3.0, 0.05),
-                yaw: 0.0,
-            },
-            umbra::synth::Material::matte([0.45, green, 0.6]),
-        );
-    }
+    push_bands(&mut scene, (edge - 0.06, 0.06, z_wall), -40..40, |k| {
+        [0.45, if k % 2 == 0 { 0.25 } else { 0.35 }, 0.6]
+    });
     let rod = Scene::rod_before_wall(x_rod, z_rod, 0.0185, z_wall).objects[1].clone();
     scene.push("rod", rod.shape, umbra::synth::Material::black());
     let (depth_only, with_rgb) = with_and_without_colour(&scene, 70..73, false, |frame| {
