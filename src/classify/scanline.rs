@@ -152,13 +152,29 @@ fn classify_frame_body(
     let mut too_wide = TooWide::new();
     let mut below_memory = BelowMemory::new();
     let mut holes = [Run::default(); MAX_RUNS];
+    // The row above as the rules that inherit OTHER from it read it: its holes waiting on the
+    // frame's widening (`too_wide`) that the widening of the rows so far would make ATTACHED are
+    // a shadow (a table top's, too wide only for a Kinect), no surface the sensor cannot measure.
+    let mut above_labels = [VALID; WIDTH];
+    let mut pending_from = 0;
     for (v, (row, fill)) in raw
         .chunks_exact(WIDTH)
         .zip(filled.chunks_exact_mut(WIDTH))
         .enumerate()
     {
         let (done, rest) = labels.split_at_mut(v * WIDTH);
-        let prev_labels = &done[done.len().saturating_sub(WIDTH)..];
+        let mut prev_labels = &done[done.len().saturating_sub(WIDTH)..];
+        let covered = p.over + widening.extra_over();
+        let pending = too_wide.since(pending_from).iter();
+        if pending.clone().any(|&(_, _, excess)| excess <= covered) {
+            above_labels.copy_from_slice(prev_labels);
+            let row_start = (v - 1) * WIDTH;
+            for &(start, end, _) in pending.filter(|&&(_, _, excess)| excess <= covered) {
+                above_labels[start as usize - row_start..end as usize - row_start].fill(ATTACHED);
+            }
+            prev_labels = &above_labels;
+        }
+        pending_from = too_wide.len;
         too_wide.row = v * WIDTH;
         classify_row_with(
             p,
@@ -456,6 +472,11 @@ impl TooWide {
             self.holes[self.len] = (at + h.start as u32, at + h.end as u32, excess);
             self.len += 1;
         }
+    }
+
+    /// The holes pushed since the first `from`.
+    fn since(&self, from: usize) -> &[(u32, u32, f32)] {
+        &self.holes[from.min(self.len)..self.len]
     }
 
     /// Labels attached those still OTHER whose excess the frame's extra widening covers.
@@ -3531,6 +3552,47 @@ mod tests {
         classify_frame(&p, &raw, &mut labels, &mut filled);
         for v in [0, 239, 240, 241, 360, HEIGHT - 1] {
             assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], start..end, ATTACHED);
+        }
+    }
+
+    /// A table before a level wall at 3 m, on a sensor that widens shadows 4 px past eq. (3):
+    /// forty rows of boxes at 1.5 m teach the frame that widening before the table's rows;
+    /// then the table top at 1.2 m, whose shadow is 3 px wider than `attached_over_px` allows
+    /// (OTHER until the frame's widening is known at its end), and under it its leg at 2 m,
+    /// whose shadow starts at the same column after the same wall. The leg's shadow is no
+    /// unmeasured region running down from the table top's: it stays ATTACHED (before, every
+    /// row of it went OTHER after the hole above it).
+    #[test]
+    fn a_leg_shadow_under_a_table_top_shadow_waiting_on_the_widening_stays_attached() {
+        let (c, p) = params();
+        let wall = raw_at(&c, 3.0);
+        let width = |z: f64| c.fb() * (1.0 / z - 1.0 / 3.0);
+        let mut raw = vec![wall; PIXELS];
+        let box_hole = (width(1.5) + 4.0).round() as usize;
+        for v in 0..40 {
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            row[400 - box_hole..400].fill(NO_DEPTH);
+            row[400..440].fill(raw_at(&c, 1.5));
+        }
+        let top_hole = (width(1.2) + p.over as f64 + 3.0).round() as usize;
+        let leg_hole = (width(2.0) + 4.0).round() as usize;
+        let start = 100;
+        for v in 100..110 {
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            row[start..start + top_hole].fill(NO_DEPTH);
+            row[start + top_hole..start + top_hole + 200].fill(raw_at(&c, 1.2));
+        }
+        for v in 110..200 {
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            row[start..start + leg_hole].fill(NO_DEPTH);
+            row[start + leg_hole..start + leg_hole + 16].fill(raw_at(&c, 2.0));
+        }
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        assert_run(&labels[20 * WIDTH..21 * WIDTH], 400 - box_hole..400, ATTACHED);
+        assert_run(&labels[105 * WIDTH..106 * WIDTH], start..start + top_hole, ATTACHED);
+        for v in [110, 111, 150, 199] {
+            assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], start..start + leg_hole, ATTACHED);
         }
     }
 
