@@ -320,7 +320,15 @@ mod tests {
     #[test]
     fn a_long_gap_beside_shorter_ones_in_one_band_is_bridged() {
         let (d, o) = (DETACHED, OTHER);
-        let stretches = [(d, 100), (o, 19), (d, 62), (o, 73), (d, 89), (o, 22), (d, 35)];
+        let stretches = [
+            (d, 100),
+            (o, 19),
+            (d, 62),
+            (o, 73),
+            (d, 89),
+            (o, 22),
+            (d, 35),
+        ];
         let rows: Vec<_> = stretches
             .iter()
             .flat_map(|&(l, n)| std::iter::repeat_n(Some((l, 0, 26)), n))

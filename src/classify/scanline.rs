@@ -3589,10 +3589,22 @@ mod tests {
         }
         let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
         classify_frame(&p, &raw, &mut labels, &mut filled);
-        assert_run(&labels[20 * WIDTH..21 * WIDTH], 400 - box_hole..400, ATTACHED);
-        assert_run(&labels[105 * WIDTH..106 * WIDTH], start..start + top_hole, ATTACHED);
+        assert_run(
+            &labels[20 * WIDTH..21 * WIDTH],
+            400 - box_hole..400,
+            ATTACHED,
+        );
+        assert_run(
+            &labels[105 * WIDTH..106 * WIDTH],
+            start..start + top_hole,
+            ATTACHED,
+        );
         for v in [110, 111, 150, 199] {
-            assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], start..start + leg_hole, ATTACHED);
+            assert_run(
+                &labels[v * WIDTH..(v + 1) * WIDTH],
+                start..start + leg_hole,
+                ATTACHED,
+            );
         }
     }
 
