@@ -7,7 +7,7 @@
 
 use umbra::classify::{Classified, Classifier};
 use umbra::eval::Confusion;
-use umbra::labels::{ALIGNMENT, ATTACHED, DETACHED, HEIGHT, OTHER, PIXELS, VALID, WIDTH};
+use umbra::labels::{ALIGNMENT, ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
 use umbra::synth::{
     random_scene, render_frame, sensor_for, Category, Scene, SensorModel, SynthFrame,
 };
@@ -621,6 +621,56 @@ fn black_box_at_the_left_border_before_a_wall_beyond_range_casts_no_shadow_there
         assert_eq!(
             claimed, 0,
             "attached pixels claimed beyond the range (seed {seed})"
+        );
+    }
+}
+
+#[test]
+fn strip_of_a_box_swallowed_by_the_widening_before_a_dark_region_beyond_range_is_no_shadow() {
+    // A pale box at 1.5 m, columns 250 to 350, before a dark wall at 5.5 m (beyond the 4.5 m
+    // range): right of the box the hole runs to the right border. A sensor whose correlation
+    // window widens every hole (a fifth simulator's; real edges into unmeasured regions do so
+    // too) swallows the box's last 3 columns, which the RGB camera still sees pale, then the
+    // dark wall: the layout of a 3 px shadow and a black occluder. But the box's shadow falls
+    // left of it, and the strip is the box's own edge: no shadow (SPEC §1), OTHER.
+    let calib = Calibration::nyu_default();
+    let (fx, cx) = (calib.depth.fx, calib.depth.cx);
+    let mut scene = Scene::new("pale box before a dark region beyond range");
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(5.5),
+        umbra::synth::Material::matte([0.06, 0.06, 0.08]),
+    );
+    let (left, right) = ((250.0 - cx) / fx * 1.5, (350.0 - cx) / fx * 1.5);
+    push_box(
+        &mut scene,
+        "box",
+        [0.5 * (left + right), 0.0, 1.6],
+        [0.5 * (right - left), 0.4, 0.1],
+        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
+    );
+    for seed in 40..42 {
+        let mut frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        let mut strip = Vec::new();
+        for (v, row) in frame.raw.chunks_exact_mut(WIDTH).enumerate() {
+            let Some(end) = (200..400).rev().find(|&u| row[u] != NO_DEPTH) else {
+                continue;
+            };
+            if row[end + 1..].iter().all(|&r| r == NO_DEPTH) && end > 300 {
+                row[end - 2..=end].fill(NO_DEPTH);
+                strip.extend((end - 2..=end).map(|u| v * WIDTH + u));
+            }
+        }
+        assert!(strip.len() > 3 * 150, "{} px swallowed", strip.len());
+        let out = classify_rgb(&calib, &frame);
+        let claimed = strip
+            .iter()
+            .filter(|&&i| out.ir_labels[i] == ATTACHED)
+            .count();
+        // (Before, 930 px of seed 40's strip; a stray pixel of the scanline's may remain.)
+        assert!(
+            claimed * 100 <= strip.len(),
+            "{claimed} px of a box's swallowed edge claimed as shadow (seed {seed})"
         );
     }
 }
