@@ -164,8 +164,13 @@ fn classify_frame_body(
     {
         let (done, rest) = labels.split_at_mut(v * WIDTH);
         let mut prev_labels = &done[done.len().saturating_sub(WIDTH)..];
-        let covered = p.over + widening.extra_over();
         let pending = too_wide.since(pending_from).iter();
+        // (The median is read only for the few rows under such a hole.)
+        let covered = if pending.len() > 0 {
+            p.over + widening.extra_over()
+        } else {
+            0.0
+        };
         if pending.clone().any(|&(_, _, excess)| excess <= covered) {
             above_labels.copy_from_slice(prev_labels);
             let row_start = (v - 1) * WIDTH;
