@@ -19,6 +19,11 @@ fn classify(calib: &Calibration, frame: &SynthFrame) -> Classified {
     out
 }
 
+/// How many of `pixels` (frame indices) `labels` gives `code`.
+fn count_labelled(labels: &[u8], pixels: &[usize], code: u8) -> usize {
+    pixels.iter().filter(|&&i| labels[i] == code).count()
+}
+
 fn count_in_row(labels: &[u8], v: usize, code: u8) -> usize {
     labels[v * WIDTH..(v + 1) * WIDTH]
         .iter()
@@ -614,10 +619,7 @@ fn black_box_at_the_left_border_before_a_wall_beyond_range_casts_no_shadow_there
             .collect();
         assert!(beyond.len() > 3000, "{} px beyond the range", beyond.len());
         let out = classify_rgb(&calib, &frame);
-        let claimed = beyond
-            .iter()
-            .filter(|&&i| out.ir_labels[i] == ATTACHED)
-            .count();
+        let claimed = count_labelled(&out.ir_labels, &beyond, ATTACHED);
         assert_eq!(
             claimed, 0,
             "attached pixels claimed beyond the range (seed {seed})"
@@ -663,10 +665,7 @@ fn strip_of_a_box_swallowed_by_the_widening_before_a_dark_region_beyond_range_is
         }
         assert!(strip.len() > 3 * 150, "{} px swallowed", strip.len());
         let out = classify_rgb(&calib, &frame);
-        let claimed = strip
-            .iter()
-            .filter(|&&i| out.ir_labels[i] == ATTACHED)
-            .count();
+        let claimed = count_labelled(&out.ir_labels, &strip, ATTACHED);
         // (Before, 930 px of seed 40's strip; a stray pixel of the scanline's may remain.)
         assert!(
             claimed * 100 <= strip.len(),
