@@ -643,7 +643,17 @@ fn classify_row_with(
                 if labels[h.start] == ATTACHED && sb.edge < sa.edge {
                     let w = p.disp(sb.edge) - p.disp(sa.edge);
                     widening.record((h.end - h.start) as f32 - w, w);
-                } else if let (OTHER, Some(too_wide)) = (labels[h.start], too_wide.as_deref_mut()) {
+                    continue;
+                }
+                let split = labels[h.start] == OTHER
+                    && labels[h.start..h.end]
+                        .iter()
+                        .all(|&l| l == OTHER || l == VALID)
+                    && split_merged(p, raw, *h, context, labels, filled);
+                if split {
+                    continue;
+                }
+                if let (OTHER, Some(too_wide)) = (labels[h.start], too_wide.as_deref_mut()) {
                     // Eq. (3) as classify_bounded reads it; too wide by no more than a sensor
                     // that widens more than a Kinect could make it.
                     let w = p.disp(sb.near) - p.disp(sa.far);
@@ -827,6 +837,76 @@ fn merge_islands<'a>(p: &ScanParams, raw: &[u16], holes: &'a mut [Run]) -> &'a [
         }
     }
     &holes[..=kept]
+}
+
+/// A hole [`merge_islands`] joined that no reading explains as one (all OTHER), read as the
+/// holes either side of its first island, that island their bound, when the first of them is a
+/// shadow: an edge's attached shadow, a pixel of lit wall the widening left, and a rod's
+/// detached shadow past it. True (and `h` relabelled) when it is. (Not when only the second
+/// is: a black rod and the attached shadow on it, beside a lit pixel, fit eq. 3 as one.)
+fn split_merged(
+    p: &ScanParams,
+    raw: &[u16],
+    h: Run,
+    context: Context,
+    labels: &mut [u8],
+    filled: &mut [u16],
+) -> bool {
+    let Some(i0) = raw[h.start..h.end].iter().position(|&r| r != NO_DEPTH) else {
+        return false;
+    };
+    let i0 = h.start + i0;
+    let i1 = i0
+        + raw[i0..h.end]
+            .iter()
+            .take_while(|&&r| r != NO_DEPTH)
+            .count();
+    let (first, second) = (
+        Run {
+            start: h.start,
+            end: i0,
+        },
+        Run {
+            start: i1,
+            end: h.end,
+        },
+    );
+    let (sa, sb) = (bound_left(raw, h.start), bound_right(raw, h.end));
+    // Each reading starts from the hole as the row's start left it.
+    let reset = |labels: &mut [u8], filled: &mut [u16]| {
+        set(labels, raw, h.start, h.end, OTHER);
+        place(filled, raw, h, NO_DEPTH);
+    };
+    reset(labels, filled);
+    classify_bounded(
+        p,
+        raw,
+        first,
+        sa,
+        bound_right(raw, i0),
+        context,
+        labels,
+        filled,
+    );
+    if labels[first.start..first.end]
+        .iter()
+        .any(|&l| l == ATTACHED || l == DETACHED)
+    {
+        classify_bounded(
+            p,
+            raw,
+            second,
+            bound_left(raw, i1),
+            sb,
+            context,
+            labels,
+            filled,
+        );
+        return true;
+    }
+    reset(labels, filled);
+    classify_bounded(p, raw, h, sa, sb, context, labels, filled);
+    false
 }
 
 fn set(labels: &mut [u8], raw: &[u16], from: usize, to: usize, code: u8) {
@@ -3463,6 +3543,33 @@ mod tests {
             }
             assert_run(&run(&row), 286..296, DETACHED);
         }
+    }
+
+    #[test]
+    fn edge_shadow_and_rod_shadow_a_lit_pixel_apart_are_read_apart() {
+        // A partition at 2.3 m from column 400 before a wall at 3.4 m: its edge's attached
+        // shadow is f·b·(1/2.3 − 1/3.4) = 6 px wide. A rod 24 px wide at 0.64 m stands before
+        // the partition: its shadow there lies f·b·(1/0.64 − 1/2.3) = 49 px left of it, 4 px
+        // past the partition's edge. A sensor that widens holes by 4 px on the left (3 into the
+        // lit gap) leaves one lit pixel between the two, and the holes merge over it: the whole
+        // is too wide for eq. (3), and its left end too far from the rod for eq. (4).
+        let c = Calibration::nyu_default();
+        let w1 = (c.fb() * (1.0 / 2.3 - 1.0 / 3.4)).round() as usize; // 43.70·0.1407 = 6.15
+        let w2 = (c.fb() * (1.0 / 0.64 - 1.0 / 2.3)).round() as usize; // 43.70·1.1277 = 49.3
+        assert_eq!((w1, w2), (6, 49));
+        let (edge, gap, widen) = (400, 4, 3);
+        let (fa, fb) = (edge + gap + w2, edge + gap + w2 + 23);
+        let mut row = vec![raw_at(&c, 3.4); WIDTH];
+        row[edge..].fill(raw_at(&c, 2.3));
+        row[fa..=fb].fill(raw_at(&c, 0.64));
+        let attached = edge - w1 - widen - 1..edge;
+        let detached = fa - w2 - widen..fb - w2 + 1;
+        row[attached.clone()].fill(NO_DEPTH);
+        row[detached.clone()].fill(NO_DEPTH);
+        assert_eq!(detached.start, edge + 1, "one lit pixel between the holes");
+        let l = run(&row);
+        assert_run(&l, attached, ATTACHED);
+        assert_run(&l, detached, DETACHED);
     }
 
     #[test]
