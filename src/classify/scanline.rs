@@ -2092,7 +2092,14 @@ fn search_occluder(
             // An occluder running off the right border shows only part of its width: its
             // shadow may end further right than what shows of it casts (never further left).
             let cut = fb + 1 == n;
-            let fits5 = e5 + 1.0 <= p.tol && (cut || e5 + 1.0 >= -p.tol - WIDENING);
+            // Likewise one running into a hole (its right part black, or in another object's
+            // shadow): up to that hole's end.
+            let hidden_right = if !cut && raw[fb + 1] == NO_DEPTH {
+                raw[fb + 1..].iter().take_while(|&&r| r == NO_DEPTH).count() as f32
+            } else {
+                0.0
+            };
+            let fits5 = e5 + 1.0 <= p.tol && (cut || e5 + hidden_right + 1.0 >= -p.tol - WIDENING);
             // Sb's first pixels are no occluder standing clear of the hole.
             if fits4 && fits5 && cut_fits && !(beyond_sb && fa <= h.end + 1) {
                 return Detached::Measured;
@@ -3570,6 +3577,22 @@ mod tests {
         let l = run(&row);
         assert_run(&l, attached, ATTACHED);
         assert_run(&l, detached, DETACHED);
+    }
+
+    #[test]
+    fn rod_whose_right_part_is_a_hole_still_casts_its_detached_shadow() {
+        // A rod 14 px wide at 1 m before a wall at 3 m: w = 29 px, its shadow [Fa−w, Fb−w]
+        // detached. Its right 10 px return no depth (black tape), and so does a black panel
+        // right of it: the rod shows as [Fa, Fa+3] only, and eq. (5) read at Fa+3 puts the
+        // shadow's end 10 px short. The hole may hide the rod's true right edge.
+        let c = Calibration::nyu_default();
+        let w = 29;
+        let (fa, fb) = (300, 313);
+        let mut row = vec![raw_at(&c, 3.0); WIDTH];
+        row[fa..=fb].fill(raw_at(&c, 1.0));
+        row[fa - w..=fb - w].fill(NO_DEPTH);
+        row[fa + 4..fb + 30].fill(NO_DEPTH);
+        assert_run(&run(&row), fa - w..fb - w + 1, DETACHED);
     }
 
     #[test]
