@@ -855,6 +855,10 @@ fn split_merged(
     let Some(i0) = raw[h.start..h.end].iter().position(|&r| r != NO_DEPTH) else {
         return false;
     };
+    // A single pixel before the island is speckle (a third of such holes on the real frame).
+    if i0 < 2 {
+        return false;
+    }
     let i0 = h.start + i0;
     let i1 = i0
         + raw[i0..h.end]
@@ -871,18 +875,19 @@ fn split_merged(
             end: h.end,
         },
     );
-    let (sa, sb) = (bound_left(raw, h.start), bound_right(raw, h.end));
-    // Each reading starts from the hole as the row's start left it.
-    let reset = |labels: &mut [u8], filled: &mut [u16]| {
-        set(labels, raw, h.start, h.end, OTHER);
-        place(filled, raw, h, NO_DEPTH);
-    };
-    reset(labels, filled);
+    // The merged reading's assumed depths, kept to go back to (its labels are all OTHER). A
+    // copy, not a second reading: most such holes of a real frame are clutter whose first part
+    // is no shadow either.
+    let mut kept = [0u16; WIDTH];
+    let kept = &mut kept[..h.end - h.start];
+    kept.copy_from_slice(&filled[h.start..h.end]);
+    // The first part is read from the hole as the row's start left it.
+    place(filled, raw, h, NO_DEPTH);
     classify_bounded(
         p,
         raw,
         first,
-        sa,
+        bound_left(raw, h.start),
         bound_right(raw, i0),
         context,
         labels,
@@ -897,15 +902,15 @@ fn split_merged(
             raw,
             second,
             bound_left(raw, i1),
-            sb,
+            bound_right(raw, h.end),
             context,
             labels,
             filled,
         );
         return true;
     }
-    reset(labels, filled);
-    classify_bounded(p, raw, h, sa, sb, context, labels, filled);
+    set(labels, raw, first.start, first.end, OTHER);
+    filled[h.start..h.end].copy_from_slice(kept);
     false
 }
 
