@@ -3615,17 +3615,9 @@ mod tests {
         row[fa - w..=fb - w].fill(NO_DEPTH);
         row[fa - 20..fa].fill(NO_DEPTH);
         let l = run(&row);
-        assert!(
-            l[fa - w..=fb - w].iter().all(|&x| x == DETACHED),
-            "{:?}",
-            &l[fa - w - 1..=fb - w + 1]
-        );
+        assert_run(&l, fa - w..fb - w + 1, DETACHED);
         // Nothing measured tells what casts the second hole.
-        assert!(
-            l[fa - 20..fa].iter().all(|&x| x == OTHER),
-            "{:?}",
-            &l[fa - 20..fa]
-        );
+        assert_run(&l, fa - 20..fa, OTHER);
     }
 
     #[test]
