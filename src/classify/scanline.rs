@@ -989,7 +989,7 @@ fn classify_bounded(
             place(filled, raw, h, bg);
         }
         beyond_range(raw, h, range, above, prev_labels, near, labels);
-        below_unmeasured(p, raw, h, near[0], prev_labels, labels);
+        below_unmeasured(p, raw, h, (near[0], above), prev_labels, labels);
         return;
     }
     // A depthless occluder a pixel or two right of its shadow shares one hole with it (the lit
@@ -1049,16 +1049,23 @@ fn classify_bounded(
 /// (a far wall beyond range, seen past a partition's edge) running on down behind the occluder,
 /// which eq. (3) fits only by chance. A shadow's first row has the lit background above it (the
 /// projector is offset sideways, not up), and its other rows the shadow, labelled attached.
+/// Above a region the sensor cannot measure lies no measured surface at Sa's depth: where the
+/// column memory over the hole's first pixel shows one (`above`), the hole above was something
+/// else on that surface, and this hole's top lies under it (an occluder's top face, seen at a
+/// grazing angle, is a hole too).
 fn below_unmeasured(
     p: &ScanParams,
     raw: &[u16],
     h: Run,
-    up: &[u16],
+    (up, above): (&[u16], &[u16]),
     prev_labels: &[u8],
     labels: &mut [u8],
 ) {
     let a = h.start - 1;
     if up.is_empty() || up[a] == NO_DEPTH || labels[h.start] != ATTACHED {
+        return;
+    }
+    if above[h.start] != NO_DEPTH && p.disp(above[h.start]) > p.disp(raw[a]) - LIT_ABOVE {
         return;
     }
     let same_sa = (p.disp(up[a]) - p.disp(raw[a])).abs() < p.min_step;
@@ -1070,6 +1077,10 @@ fn below_unmeasured(
         set(labels, raw, h.start, h.end, OTHER);
     }
 }
+
+/// Disparity (pixels) by which the column memory over a hole may lie farther than Sa and still
+/// be Sa's lit surface for [`below_unmeasured`] (a wall seen at a slant over the shadow's rows).
+const LIT_ABOVE: f32 = 2.0;
 
 /// The farthest of the last valid raw values above the hole's columns (column memory), if any.
 fn farthest_above(above: &[u16], h: Run) -> Option<u16> {
@@ -4071,6 +4082,34 @@ mod tests {
         for v in [100, 101, 250, 479] {
             let hole = &labels[v * WIDTH + 300..v * WIDTH + 308];
             assert!(hole.iter().all(|&l| l == ATTACHED), "row {v}: {hole:?}");
+        }
+    }
+
+    #[test]
+    fn shadow_under_a_box_top_seen_at_a_grazing_angle_stays_attached() {
+        // A box at 1 m, [300, 400), from row 100 down before a wall at 3 m: by hand its shadow
+        // is f·b·(1/1 − 1/3) = 29 px, [271, 300). Its top face, seen at a grazing angle, returns
+        // no depth over rows [96, 100), from the shadow's first column to the box's right end.
+        // The first shadow row lies under that OTHER hole, after the same wall, but the wall
+        // measured above the hole says it is no unmeasured region running down.
+        let (c, p) = params();
+        let w = (c.fb() * (1.0 - 1.0 / 3.0)).round() as usize;
+        assert_eq!(w, 29);
+        let mut raw = vec![raw_at(&c, 3.0); PIXELS];
+        for v in 96..HEIGHT {
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            if v < 100 {
+                row[300 - w..400].fill(NO_DEPTH);
+            } else {
+                row[300 - w..300].fill(NO_DEPTH);
+                row[300..400].fill(raw_at(&c, 1.0));
+            }
+        }
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        for v in [100, 101, 250, 479] {
+            let shadow = &labels[v * WIDTH + 300 - w..v * WIDTH + 300];
+            assert!(shadow.iter().all(|&l| l == ATTACHED), "row {v}: {shadow:?}");
         }
     }
 
