@@ -1065,7 +1065,10 @@ fn below_unmeasured(
     if up.is_empty() || up[a] == NO_DEPTH || labels[h.start] != ATTACHED {
         return;
     }
-    if above[h.start] != NO_DEPTH && p.disp(above[h.start]) > p.disp(raw[a]) - LIT_ABOVE {
+    let lit_above = above
+        .get(h.start)
+        .is_some_and(|&q| q != NO_DEPTH && p.disp(q) > p.disp(raw[a]) - LIT_ABOVE);
+    if lit_above {
         return;
     }
     let same_sa = (p.disp(up[a]) - p.disp(raw[a])).abs() < p.min_step;
