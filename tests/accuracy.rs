@@ -4236,3 +4236,60 @@ fn glossy_rod_beside_a_shaded_wall(radius: f64) -> (Confusion, Confusion) {
     }
     (plain, shaded)
 }
+
+#[test]
+fn box_side_face_seen_at_a_grazing_angle_is_no_shadow() {
+    // A blue box, x = 0.1..0.3 m, z = 0.9..1.1 m, before a pale wall at 3 m. Its left face
+    // (x = 0.1) faces the camera at a grazing angle (cos 0.1 at its middle) and returns no depth:
+    // by hand it spans columns cx + fx·0.1/1.1 to cx + fx·0.1/0.9 (53 to 65 px right of cx). The
+    // projector (7.5 cm right) lights it, so its far edge casts the shadow on the wall,
+    // f·b·(1/1.1 − 1/3) = 25 px left of that edge. Face and shadow are one hole, which eq. (3)
+    // from the front edge (34 px) fits as a whole: the RGB camera sees the face there, darker
+    // than the front (turned from the light) but of its hue.
+    let calib = Calibration::nyu_default();
+    let (fx, cx) = (calib.depth.fx, calib.depth.cx);
+    let mut scene = Scene::new("box with a grazing side face");
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(3.0),
+        umbra::synth::Material::matte([0.8, 0.8, 0.75]),
+    );
+    push_box(
+        &mut scene,
+        "box",
+        [0.2, 0.0, 1.0],
+        [0.1, 0.3, 0.1],
+        umbra::synth::Material::matte([0.15, 0.35, 0.75]),
+    );
+    let (u_back, u_front) = (cx + fx * 0.1 / 1.1, cx + fx * 0.1 / 0.9);
+    let shadow = (calib.fb() * (1.0 / 1.1 - 1.0 / 3.0)).round() as usize;
+    assert_eq!(shadow, 25);
+    let mut frame = render_frame(&scene, &calib, &SensorModel::kinect(), 40);
+    // The face's columns, wholly inside it, in 80 rows about the box's middle.
+    let face_cols = u_back.ceil() as usize + 1..u_front.floor() as usize;
+    let (mut face, mut shade) = (Vec::new(), Vec::new());
+    for v in 200..280 {
+        let row = &mut frame.raw[v * WIDTH..(v + 1) * WIDTH];
+        row[face_cols.clone()].fill(NO_DEPTH);
+        face.extend(face_cols.clone().map(|u| v * WIDTH + u));
+        // The shadow's middle, clear of both its ends (the sensor's widening, the face's edge).
+        let end = u_back.floor() as usize;
+        shade.extend((end - shadow + 4..end - 3).map(|u| v * WIDTH + u));
+    }
+    assert!(face_cols.len() >= 8, "face {face_cols:?}");
+    let out = classify_rgb(&calib, &frame);
+    let face_other = count_labelled(&out.ir_labels, &face, OTHER);
+    let shadow_kept = count_labelled(&out.ir_labels, &shade, ATTACHED);
+    // Read at the front edge's depth, the face's far part shows in the RGB image further right
+    // than that depth puts it: the near part, most of it, is told (76 % of it; none before).
+    assert!(
+        face_other * 10 >= face.len() * 6,
+        "{face_other} of {} face pixels OTHER",
+        face.len()
+    );
+    assert!(
+        shadow_kept * 100 >= shade.len() * 98,
+        "{shadow_kept} of {} shadow pixels attached",
+        shade.len()
+    );
+}

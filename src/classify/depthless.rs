@@ -26,7 +26,9 @@
 //!   hole by colour where depth alone finds several candidates (`depthless/pairs.rs`);
 //! - a hole the scanline called a thin Sb's attached shadow may hold a depthless object behind
 //!   that Sb, its face and its shadow, read as a hole running on into a nearer surface
-//!   (`depthless/behind_rod.rs`).
+//!   (`depthless/behind_rod.rs`);
+//! - an attached hole may end in its occluder's own side face, seen at a grazing angle, which
+//!   the RGB camera shows in the occluder's hue (`depthless/face.rs`).
 //!
 //! Runs on holes the scanline left OTHER (splits only on those at least 10 px wide; the thin-Sb
 //! reading on attached ones), after the scanline and before the warp; nothing is allocated.
@@ -40,6 +42,7 @@ use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 mod behind_rod;
 mod dark;
 mod dropouts;
+mod face;
 mod left_border;
 mod offimage;
 mod pairs;
@@ -424,6 +427,7 @@ impl ColourSplit {
                 };
                 first = false;
                 if labels[i] != OTHER {
+                    let attached = labels[i] == ATTACHED;
                     if labels[i] == ATTACHED
                         && !self.unlike_its_surface(raw, rgb, labels, filled, v, (a, b))
                         && !self.occluder_behind_thin_sb(
@@ -442,6 +446,11 @@ impl ColourSplit {
                         self.on_a_dark_surface(raw, rgb, labels, v, (a, b));
                     } else if labels[i] == DETACHED {
                         self.detached_on_a_dark_surface(raw, rgb, labels, v, (a, b));
+                    }
+                    // Whatever the readings above left of it: the occluder's own face the
+                    // hole may end in.
+                    if attached && labels[v * WIDTH + b - 1] == ATTACHED {
+                        self.occluder_face_in_hole(raw, rgb, labels, v, (a, b));
                     }
                     u = mask.next_hole(b.max(u + 1));
                     continue;
@@ -1960,10 +1969,16 @@ fn highlight_of(o: [i32; 3], bg: [i32; 3]) -> bool {
     if so <= sb || 100 * lo > SATURATED * hi {
         return false;
     }
-    let off: i32 = (0..3)
-        .map(|k| (1000 * o[k] / so - 1000 * bg[k] / sb).abs())
-        .sum();
-    off <= CHROMA_AGREE || brightened_into_clipping(o, bg)
+    chroma_off(o, bg) <= CHROMA_AGREE || brightened_into_clipping(o, bg)
+}
+
+/// Chromaticity difference of colours `p` and `q`: thousandths of their brightness (R + G + B),
+/// summed over R, G, B.
+pub(crate) fn chroma_off(p: [i32; 3], q: [i32; 3]) -> i32 {
+    let (sp, sq) = (p.iter().sum::<i32>().max(1), q.iter().sum::<i32>().max(1));
+    (0..3)
+        .map(|k| (1000 * p[k] / sp - 1000 * q[k] / sq).abs())
+        .sum()
 }
 
 /// Percentage of its strongest channel under which a colour's weakest makes it saturated.

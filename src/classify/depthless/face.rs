@@ -1,0 +1,107 @@
+//! An occluder's own face inside its attached shadow's hole.
+//!
+//! A box turned a little away from the camera shows its side face at a grazing angle; the
+//! sensor returns no depth there, so the face joins the box's attached shadow in one hole, and
+//! eq. (3) from the box's front edge fits the whole (the shadow, cast by the face's far edge, is
+//! that much narrower). The face is the occluder, not background the projector missed: a hole
+//! that would be one even if lit, OTHER (SPEC §1). The RGB camera sees it: read at the
+//! occluder's depth, the hole's right end shows the occluder's colour, where a shadow on the
+//! background would show the background's (at that depth the RGB camera looks just left of the
+//! occluder's edge, past it).
+
+use super::{chroma_off, hue_dist, relabel, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE};
+use crate::labels::{ATTACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
+
+/// Columns at the hole's right end not read: the lens blends the occluder's edge into them.
+const BLEND: usize = 1;
+/// Fewest columns past the blend that must show the occluder: one column is noise.
+const MIN_FACE: usize = 2;
+/// Chromaticity difference (thousandths, summed over R, G, B) within which a pixel has the
+/// occluder's hue.
+const SAME_HUE: i32 = 40;
+/// Brightness (R + G + B) under which a colour's chromaticity is the camera's noise.
+const LIT: i32 = 90;
+
+/// Whether colour `p` is bright enough for its chromaticity to tell.
+fn lit(p: [i32; 3]) -> bool {
+    p.iter().sum::<i32>() >= LIT
+}
+
+impl ColourSplit {
+    /// Relabels OTHER the right end of the attached hole `[a, b)` of row `v` where the RGB
+    /// camera sees the occluder (Sb, right of the hole) over it at the occluder's depth (see the
+    /// module's docs). True when it did.
+    pub(super) fn occluder_face_in_hole(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        labels: &mut [u8],
+        v: usize,
+        (a, b): (usize, usize),
+    ) -> bool {
+        let row = v * WIDTH;
+        if a < SIDE || b + SIDE > WIDTH || b - a < BLEND + MIN_FACE + 1 {
+            return false;
+        }
+        let (sa, sb) = (raw[row + a - 1], raw[row + b]);
+        if sa == NO_DEPTH || sb == NO_DEPTH || self.disp(sb) < self.disp(sa) + SAME_SURFACE {
+            return false;
+        }
+        // Sb's colour over its first pixels (one surface: within a step of disparity of its
+        // edge), the background's left of the hole.
+        let on_sb = raw[row + b..row + b + SIDE]
+            .iter()
+            .all(|&r| r != NO_DEPTH && (self.disp(r) - self.disp(sb)).abs() < SAME_SURFACE);
+        // A face is upright: the rows above and below end their hole at Sb's edge too. (Where
+        // Sb's edge runs along the row, a box's bottom on a floor, the RGB camera a few
+        // millimetres lower sees the box over the shadow's last row.)
+        let upright = |w: usize| {
+            let r = &raw[w * WIDTH..(w + 1) * WIDTH];
+            (b - 2..=b + 2).any(|e| {
+                r[e - 1] == NO_DEPTH
+                    && r[e] != NO_DEPTH
+                    && (self.disp(r[e]) - self.disp(sb)).abs() < SAME_SURFACE
+            })
+        };
+        if !on_sb || v == 0 || v + 1 >= HEIGHT || !upright(v - 1) || !upright(v + 1) {
+            return false;
+        }
+        let (Some(occluder), Some(wall)) = (
+            self.mean_colour(rgb, v, b + 1..b + SIDE, sb),
+            self.mean_colour(rgb, v, a - SIDE..a, sa),
+        ) else {
+            return false;
+        };
+        let step = self.dimmed(COLOUR_STEP, wall);
+        // The face is the occluder's colour, or its hue in other light (it is turned from the
+        // front face, and lit otherwise).
+        let hued = chroma_off(occluder, wall) >= 3 * SAME_HUE && lit(occluder);
+        if hue_dist(occluder, wall) < 2 * step && !hued {
+            return false;
+        }
+        let shows_occluder = |p: [i32; 3]| {
+            let (d_occ, d_wall) = (hue_dist(p, occluder), hue_dist(p, wall));
+            (d_occ < step && 3 * d_occ <= d_wall && d_occ + step <= d_wall)
+                || (hued
+                    && lit(p)
+                    && chroma_off(p, occluder) <= SAME_HUE
+                    && 2 * chroma_off(p, wall) >= chroma_off(occluder, wall))
+        };
+        // Leftwards from the blend while the RGB camera shows the occluder at its depth: within
+        // half a step of its colour, and nearer it than the background's by a step.
+        let face = (a..b - BLEND)
+            .rev()
+            .map_while(|u| shows_occluder(self.probe(rgb, u, v, sb)?).then_some(u))
+            .last();
+        let Some(start) = face else {
+            return false;
+        };
+        // Some shadow is left (a hole that is all face is the occluder's dropout, which other
+        // readings take).
+        if b - BLEND - start < MIN_FACE || start <= a + 1 {
+            return false;
+        }
+        relabel(&mut labels[row + start..row + b], ATTACHED, OTHER);
+        true
+    }
+}
