@@ -66,10 +66,23 @@ impl ColourSplit {
         if !on_sb || v == 0 || v + 1 >= HEIGHT || !upright(v - 1) || !upright(v + 1) {
             return false;
         }
-        let (Some(occluder), Some(wall)) = (
-            self.mean_colour(rgb, v, b + 1..b + SIDE, sb),
-            self.mean_colour(rgb, v, a - SIDE..a, sa),
-        ) else {
+        let Some(occluder) = self.mean_colour(rgb, v, b + 1..b + SIDE, sb) else {
+            return false;
+        };
+        // Most attached holes show the wall there: one probe where the face must show, before
+        // the wall's colour is read (a step as loose as a bright wall's: the test below is
+        // dimmed by the wall, not by a dark occluder).
+        let near = |p: [i32; 3]| {
+            hue_dist(p, occluder) < self.dimmed(COLOUR_STEP, [255; 3])
+                || chroma_off(p, occluder) <= SAME_HUE
+        };
+        if !self
+            .probe(rgb, b - BLEND - MIN_FACE, v, sb)
+            .is_some_and(near)
+        {
+            return false;
+        }
+        let Some(wall) = self.mean_colour(rgb, v, a - SIDE..a, sa) else {
             return false;
         };
         let step = self.dimmed(COLOUR_STEP, wall);
@@ -87,8 +100,8 @@ impl ColourSplit {
                     && chroma_off(p, occluder) <= SAME_HUE
                     && 2 * chroma_off(p, wall) >= chroma_off(occluder, wall))
         };
-        // Leftwards from the blend while the RGB camera shows the occluder at its depth: within
-        // half a step of its colour, and nearer it than the background's by a step.
+        // Leftwards from the blend while the RGB camera shows the occluder at its depth, and
+        // plainly not the wall.
         let face = (a..b - BLEND)
             .rev()
             .map_while(|u| shows_occluder(self.probe(rgb, u, v, sb)?).then_some(u))
