@@ -30,7 +30,7 @@ fn lit(p: [i32; 3]) -> bool {
 impl ColourSplit {
     /// Relabels OTHER the right end of the attached hole `[a, b)` of row `v` where the RGB
     /// camera sees the occluder (Sb, right of the hole) over it at the occluder's depth (see the
-    /// module's docs). True when it did.
+    /// module's docs).
     pub(super) fn occluder_face_in_hole(
         &self,
         raw: &[u16],
@@ -38,23 +38,23 @@ impl ColourSplit {
         labels: &mut [u8],
         v: usize,
         (a, b): (usize, usize),
-    ) -> bool {
+    ) {
         let row = v * WIDTH;
         if a < SIDE || b + SIDE > WIDTH || b - a < BLEND + MIN_FACE + 1 {
-            return false;
+            return;
         }
         let (sa, sb) = (raw[row + a - 1], raw[row + b]);
         if sa == NO_DEPTH || sb == NO_DEPTH || self.disp(sb) < self.disp(sa) + SAME_SURFACE {
-            return false;
+            return;
         }
         // Sb's colour over its first pixels (one surface: within a step of disparity of its
         // edge), the background's left of the hole.
         let on_sb = raw[row + b..row + b + SIDE]
             .iter()
             .all(|&r| r != NO_DEPTH && (self.disp(r) - self.disp(sb)).abs() < SAME_SURFACE);
-        // A face is upright: the rows above and below end their hole at Sb's edge too. (Where
-        // Sb's edge runs along the row, a box's bottom on a floor, the RGB camera a few
-        // millimetres lower sees the box over the shadow's last row.)
+        // A face is upright: the rows above and below end their hole at Sb's edge too (within
+        // 2 px, a slanted edge). Where Sb's edge runs along the row (a box's bottom on a floor),
+        // the RGB camera, a few millimetres lower, sees the box over the shadow's last row.
         let upright = |w: usize| {
             let r = &raw[w * WIDTH..(w + 1) * WIDTH];
             (b - 2..=b + 2).any(|e| {
@@ -64,10 +64,10 @@ impl ColourSplit {
             })
         };
         if !on_sb || v == 0 || v + 1 >= HEIGHT || !upright(v - 1) || !upright(v + 1) {
-            return false;
+            return;
         }
         let Some(occluder) = self.mean_colour(rgb, v, b + 1..b + SIDE, sb) else {
-            return false;
+            return;
         };
         // Most attached holes show the wall there: one probe where the face must show, before
         // the wall's colour is read (a step as loose as a bright wall's: the test below is
@@ -80,17 +80,17 @@ impl ColourSplit {
             .probe(rgb, b - BLEND - MIN_FACE, v, sb)
             .is_some_and(near)
         {
-            return false;
+            return;
         }
         let Some(wall) = self.mean_colour(rgb, v, a - SIDE..a, sa) else {
-            return false;
+            return;
         };
         let step = self.dimmed(COLOUR_STEP, wall);
         // The face is the occluder's colour, or its hue in other light (it is turned from the
         // front face, and lit otherwise).
         let hued = chroma_off(occluder, wall) >= 3 * SAME_HUE && lit(occluder);
         if hue_dist(occluder, wall) < 2 * step && !hued {
-            return false;
+            return;
         }
         let shows_occluder = |p: [i32; 3]| {
             let (d_occ, d_wall) = (hue_dist(p, occluder), hue_dist(p, wall));
@@ -107,14 +107,13 @@ impl ColourSplit {
             .map_while(|u| shows_occluder(self.probe(rgb, u, v, sb)?).then_some(u))
             .last();
         let Some(start) = face else {
-            return false;
+            return;
         };
         // Some shadow is left (a hole that is all face is the occluder's dropout, which other
         // readings take).
         if b - BLEND - start < MIN_FACE || start <= a + 1 {
-            return false;
+            return;
         }
         relabel(&mut labels[row + start..row + b], ATTACHED, OTHER);
-        true
     }
 }
