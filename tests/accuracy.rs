@@ -4280,10 +4280,11 @@ fn box_side_face_seen_at_a_grazing_angle_is_no_shadow() {
     let out = classify_rgb(&calib, &frame);
     let face_other = count_labelled(&out.ir_labels, &face, OTHER);
     let shadow_kept = count_labelled(&out.ir_labels, &shade, ATTACHED);
-    // Read at the front edge's depth, the face's far part shows in the RGB image further right
-    // than that depth puts it: the near part, most of it, is told (76 % of it; none before).
+    // Read at the front edge's depth alone, the face's far part shows in the RGB image further
+    // right than that depth puts it (76 % of the face was told so, 97 % with the far edge's
+    // depth; none before).
     assert!(
-        face_other * 10 >= face.len() * 6,
+        face_other * 10 >= face.len() * 9,
         "{face_other} of {} face pixels OTHER",
         face.len()
     );

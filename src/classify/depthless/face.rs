@@ -100,11 +100,22 @@ impl ColourSplit {
                     && chroma_off(p, occluder) <= SAME_HUE
                     && 2 * chroma_off(p, wall) >= chroma_off(occluder, wall))
         };
-        // Leftwards from the blend while the RGB camera shows the occluder at its depth, and
-        // plainly not the wall.
+        // Leftwards from the blend while the RGB camera shows the occluder, and plainly not the
+        // wall: at Sb's depth, or at the depth of a far edge at `u` whose shadow starts at the
+        // hole's first pixel (eq. 3 with the sensor's widening): the face recedes from Sb to
+        // that edge, and its far part shows in the RGB image further right than Sb's depth puts
+        // it. (Left of the far edge both read the wall: left of where the RGB camera sees the
+        // occluder's edge, at either depth.)
+        let far_edge = |u: usize| {
+            let d = self.disp(sa) + (u - a) as f64 - self.widen;
+            (d > self.disp(sa) && d < self.disp(sb)).then(|| self.raw_at_disp(d))
+        };
         let face = (a..b - BLEND)
             .rev()
-            .map_while(|u| shows_occluder(self.probe(rgb, u, v, sb)?).then_some(u))
+            .map_while(|u| {
+                let at = |r: u16| self.probe(rgb, u, v, r).is_some_and(shows_occluder);
+                (at(sb) || far_edge(u).is_some_and(at)).then_some(u)
+            })
             .last();
         let Some(start) = face else {
             return;
