@@ -645,11 +645,8 @@ fn classify_row_with(
                     widening.record((h.end - h.start) as f32 - w, w);
                     continue;
                 }
-                let split = labels[h.start] == OTHER
-                    && labels[h.start..h.end]
-                        .iter()
-                        .all(|&l| l == OTHER || l == VALID)
-                    && split_merged(p, raw, *h, context, labels, filled);
+                let split =
+                    labels[h.start] == OTHER && split_merged(p, raw, *h, context, labels, filled);
                 if split {
                     continue;
                 }
@@ -856,7 +853,12 @@ fn split_merged(
         return false;
     };
     // A single pixel before the island is speckle (a third of such holes on the real frame).
-    if i0 < 2 {
+    // Only a hole no reading explained (a hole without an island, most of them, stops above).
+    if i0 < 2
+        || !labels[h.start..h.end]
+            .iter()
+            .all(|&l| l == OTHER || l == VALID)
+    {
         return false;
     }
     let i0 = h.start + i0;

@@ -47,8 +47,8 @@ impl ColourSplit {
         if sa == NO_DEPTH || sb == NO_DEPTH || self.disp(sb) < self.disp(sa) + SAME_SURFACE {
             return;
         }
-        // Sb's colour over its first pixels (one surface: within a step of disparity of its
-        // edge), the background's left of the hole.
+        // Sb's first pixels are one surface (within a step of disparity of its edge): its colour
+        // is read there.
         let on_sb = raw[row + b..row + b + SIDE]
             .iter()
             .all(|&r| r != NO_DEPTH && (self.disp(r) - self.disp(sb)).abs() < SAME_SURFACE);
