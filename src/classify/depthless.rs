@@ -44,6 +44,7 @@ mod dark;
 mod dropouts;
 mod face;
 mod left_border;
+mod limb;
 mod offimage;
 mod pairs;
 mod patch;
@@ -566,6 +567,13 @@ impl ColourSplit {
                     .filter(|&(c, (s, shift))| !patched || c.b >= c.a + s + shift)
                     .filter(|&(c, (s, _))| c.closed || s > self.widened_edge());
                 // (Beside a patch the hole's right end is Sb's shadow, no occluder's edge.)
+                if split.is_none()
+                    && !patched
+                    && self.limb_of_near_edge(raw, rgb, labels, filled, v, (a, b))
+                {
+                    u = mask.next_hole(b.max(u + 1));
+                    continue;
+                }
                 if split.is_none() && !patched {
                     // No shadow to split off, but an occluder's depth still places it in the RGB
                     // view, with the alignment shadow right of it. A rod narrower than MIN_HOLE

@@ -1,0 +1,92 @@
+//! A narrow hole at a near object's right edge: the object's own limb, not the background's.
+//!
+//! An object's silhouette, where its surface turns away from the camera (a cylinder's limb, a box
+//! face seen edge-on), returns no depth, and the sensor's window widens that hole by a pixel or
+//! two. It is OTHER in the IR view either way. What it changes is the RGB view: the scanline
+//! fills a hole with the farther side's depth, so the warp sees the depth edge at the hole's left
+//! end, next to an OTHER pixel, and takes the background the RGB camera sees there for a region
+//! without depth (beyond range, black) rather than an alignment shadow (SPEC §1). The RGB camera
+//! tells which: read at the background's depth, the hole shows the background's colour when it is
+//! the near object's edge (the strip the IR camera cannot see lies just there), and something
+//! else (a black object half hidden behind the near one, a dark patch) when the hole lies on a
+//! farther surface.
+
+use super::{hue_dist, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE};
+use crate::labels::{NO_DEPTH, OTHER, WIDTH};
+
+/// Widest hole read as an edge's: a limb's pixel or two and the sensor's widening.
+const MAX_LIMB: usize = 8;
+/// Least disparity (pixels) between the near side and the background: a third of it is the
+/// alignment strip the RGB camera sees, a pixel at least.
+const MIN_EDGE: f64 = 3.0;
+
+impl ColourSplit {
+    /// Fills the OTHER hole `[a, b)` of row `v` with the depth of its left side, a nearer
+    /// surface, where the RGB camera sees the background over it (see the module's docs); returns
+    /// whether it did.
+    pub(super) fn limb_of_near_edge(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        labels: &[u8],
+        filled: &mut [u16],
+        v: usize,
+        (a, b): (usize, usize),
+    ) -> bool {
+        let row = &raw[v * WIDTH..(v + 1) * WIDTH];
+        if a < SIDE || b + SIDE > WIDTH || b - a > MAX_LIMB {
+            return false;
+        }
+        let (sa, sb) = (row[a - 1], row[b]);
+        if sa == NO_DEPTH || sb == NO_DEPTH || self.disp(sa) < self.disp(sb) + MIN_EDGE {
+            return false;
+        }
+        // Both sides are surfaces, not a stray pixel: two pixels of each within a step.
+        let on =
+            |r: u16, s: u16| r != NO_DEPTH && (self.disp(r) - self.disp(s)).abs() < SAME_SURFACE;
+        if !on(row[a - 2], sa) || !(b + 1..b + SIDE).all(|u| on(row[u], sb)) {
+            return false;
+        }
+        // A hole another reading placed (a depthless occluder's) keeps its depth.
+        if self.disp(filled[v * WIDTH + a]) > self.disp(sb) + 1.0 {
+            return false;
+        }
+        if labels[v * WIDTH + a..v * WIDTH + b]
+            .iter()
+            .any(|&l| l != OTHER)
+        {
+            return false;
+        }
+        let Some(background) = self.mean_colour(rgb, v, b + 1..b + SIDE, sb) else {
+            return false;
+        };
+        let Some(near) = self.mean_colour(rgb, v, a - SIDE..a, sa) else {
+            return false;
+        };
+        // Read at the near side's depth, the hole's first pixel is that side's colour: its own
+        // edge, not a black object beside it (whose strip the colour reading after the warp
+        // finds by its contrast).
+        if self
+            .probe(rgb, a, v, sa)
+            .is_none_or(|p| hue_dist(p, near) >= self.dimmed(COLOUR_STEP, near) / 2)
+        {
+            return false;
+        }
+        // Only two colours a step apart tell which surface the RGB camera sees there.
+        if hue_dist(near, background) < self.dimmed(COLOUR_STEP, background) {
+            return false;
+        }
+        let step = self.dimmed(COLOUR_STEP, background) / 2;
+        // The hole's first pixel, read at the background's depth, may take in the near edge's
+        // blend; the others must show the background.
+        let from = if b - a > 2 { a + 1 } else { a };
+        let shows_background = (from..b).all(|u| {
+            self.probe(rgb, u, v, sb)
+                .is_some_and(|p| hue_dist(p, background) < step)
+        });
+        if shows_background {
+            filled[v * WIDTH + a..v * WIDTH + b].fill(sa);
+        }
+        shows_background
+    }
+}
