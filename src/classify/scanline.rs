@@ -1499,7 +1499,10 @@ fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, rows: Rows, label
             // the gap shows on the background itself (the occluder's own right part hidden
             // in a dropout: the hole is its shadow, as wide as it).
             if width + SWALLOWED_GAP_SLACK < w {
-                if gap == Some(true) || cut_by_thin_occluder(p, raw, h) {
+                if gap == Some(true)
+                    || cut_by_thin_occluder(p, raw, h)
+                    || behind_thin_sb(p, raw, h, rows)
+                {
                     set(labels, raw, h.start, h.end, DETACHED);
                 }
                 return;
@@ -1510,6 +1513,26 @@ fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, rows: Rows, label
         };
         set(labels, raw, h.start, h.end, code);
     }
+}
+
+/// True when the hole `h`, left of a thin occluder (Sb), is the detached shadow of an object
+/// right of that occluder whose left part it hides from the camera (a rod behind a rod): the
+/// shadow's right end lies behind the occluder too, so eq. (5) holds against the background
+/// (Sa's), not against Sb; eq. (4) may reach behind the occluder by its width.
+fn behind_thin_sb(p: &ScanParams, raw: &[u16], h: Run, rows: Rows) -> bool {
+    if h.start == 0 {
+        return false;
+    }
+    let sa = bound_left(raw, h.start);
+    let bg = Bound {
+        edge: sa.far,
+        far: sa.far,
+        near: sa.far,
+    };
+    matches!(
+        search_occluder(p, raw, h, Some(sa), bg, rows, false, false),
+        Detached::Measured
+    )
 }
 
 /// Eqs. (4)–(5) read off the row: the lit gap between a detached shadow `h` and its occluder,
