@@ -960,10 +960,27 @@ fn classify_bounded(
         rows,
     } = context;
     let near = rows.near(raw.len());
+    // A depthless occluder the hole before this one paired with (its detached shadow) may fill
+    // this hole's left part, and Sb's attached shadow the rest (a black rod left of a
+    // cylinder's shadow): the rest is read alone.
+    let placed = filled[h.start..h.end]
+        .iter()
+        .take_while(|&&f| f != NO_DEPTH)
+        .count();
     // Shadows lie on the background, so fill with the farther side's depth.
     fill(filled, h, sa.far.max(sb.far));
     // Eq. (3): the attached shadow of Sb on the surface of Sa is w = disp(Sb) − disp(Sa) wide.
     let w = p.disp(sb.near) - p.disp(sa.far);
+    if placed > 0 && placed < h.end - h.start {
+        let rest = Run {
+            start: h.start + placed,
+            end: h.end,
+        };
+        if w >= p.min_step && (rest.end - rest.start) as f32 <= w + p.over {
+            set(labels, raw, rest.start, rest.end, ATTACHED);
+        }
+        return;
+    }
     if w >= p.min_step && !same_surface(p, raw, h, sa, sb, p.min_step) {
         // Eq. (3) fitting is no proof: Sb, read over three pixels, reaches through a lit gap of
         // two to a rod whose width ties with its shift (its detached shadow, the gap showing in
@@ -2221,8 +2238,10 @@ fn depthless_occluder(
     let reach = (p.max_disp - d_bg).max(0.0) as usize + 2;
     let chained_left = hole_before(raw, h.start, reach)
         .is_some_and(|before| hole_pair(p, raw, before, h.start, d_bg).is_some());
-    let chained_right = hole_after(raw, occluder.end, reach)
-        .is_some_and(|after| hole_pair(p, raw, occluder, after, d_bg).is_some());
+    // (An occluder that shares its hole with a nearer surface's shadow chains with nothing.)
+    let chained_right = raw.get(occluder.end).is_some_and(|&r| r != NO_DEPTH)
+        && hole_after(raw, occluder.end, reach)
+            .is_some_and(|after| hole_pair(p, raw, occluder, after, d_bg).is_some());
     if chained_left || chained_right {
         return Detached::No;
     }
@@ -2446,11 +2465,26 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
         return (cover as f32 + 1.0 >= hidden && d_bg + shift <= p.max_disp)
             .then_some((shift, Run { start, end }));
     }
-    if shadow_w < occluder_w - 1.0
-        || (!at_border && shadow_w > occluder_w + p.over)
-        || (at_border && (start - h.end) as f32 > shadow_w)
-    {
-        return None;
+    // Closed by a nearer surface, the occluder's hole may hold that surface's attached shadow
+    // too, on its right (eq. 3, up to `over` wider): the occluder is the rest (a black rod left
+    // of a cylinder's shadow).
+    let sb_shadow = if nearer_end {
+        p.disp(raw[end]) - d_bg
+    } else {
+        0.0
+    };
+    let rest = occluder_w - sb_shadow;
+    let fits = |w: f32, slack: f32| shadow_w >= w - slack - 1.0 && shadow_w <= w + p.over;
+    let mut end = end;
+    if at_border {
+        if shadow_w < occluder_w - 1.0 || (start - h.end) as f32 > shadow_w {
+            return None;
+        }
+    } else if !fits(occluder_w, 0.0) {
+        if !(nearer_end && rest >= MIN_DEPTHLESS_WIDTH as f32 && fits(rest, p.over)) {
+            return None;
+        }
+        end = start + (rest.round() as usize).min(end - start);
     }
     // The shadow's right edge is the occluder's, shifted (plus up to 2 px of widening); at the
     // border the left edges give it (plus the widening of the shadow's left end). The implied
