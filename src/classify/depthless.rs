@@ -745,6 +745,12 @@ impl ColourSplit {
         self.k * (self.den - f64::from(raw))
     }
 
+    /// Whether raw value `r` is measured and on the surface of raw value `s` (within
+    /// [`SAME_SURFACE`] of disparity).
+    fn on_surface(&self, r: u16, s: u16) -> bool {
+        r != NO_DEPTH && (self.disp(r) - self.disp(s)).abs() < SAME_SURFACE
+    }
+
     /// The widest strip (pixels) an open hole's left end may be its left surface's own edge,
     /// swallowed by the sensor's widening: the frame's median widening and a pixel, 4 at least
     /// (a Kinect's median is 2.3). A box's receding side before a region the sensor cannot

@@ -51,17 +51,13 @@ impl ColourSplit {
         // is read there.
         let on_sb = raw[row + b..row + b + SIDE]
             .iter()
-            .all(|&r| r != NO_DEPTH && (self.disp(r) - self.disp(sb)).abs() < SAME_SURFACE);
+            .all(|&r| self.on_surface(r, sb));
         // A face is upright: the rows above and below end their hole at Sb's edge too (within
         // 2 px, a slanted edge). Where Sb's edge runs along the row (a box's bottom on a floor),
         // the RGB camera, a few millimetres lower, sees the box over the shadow's last row.
         let upright = |w: usize| {
             let r = &raw[w * WIDTH..(w + 1) * WIDTH];
-            (b - 2..=b + 2).any(|e| {
-                r[e - 1] == NO_DEPTH
-                    && r[e] != NO_DEPTH
-                    && (self.disp(r[e]) - self.disp(sb)).abs() < SAME_SURFACE
-            })
+            (b - 2..=b + 2).any(|e| r[e - 1] == NO_DEPTH && self.on_surface(r[e], sb))
         };
         if !on_sb || v == 0 || v + 1 >= HEIGHT || !upright(v - 1) || !upright(v + 1) {
             return;

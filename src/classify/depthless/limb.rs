@@ -11,7 +11,7 @@
 //! else (a black object half hidden behind the near one, a dark patch) when the hole lies on a
 //! farther surface.
 
-use super::{hue_dist, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE};
+use super::{hue_dist, ColourSplit, COLOUR_STEP, SIDE};
 use crate::labels::{NO_DEPTH, OTHER, WIDTH};
 
 /// Widest hole read as an edge's: a limb's pixel or two and the sensor's widening.
@@ -41,10 +41,10 @@ impl ColourSplit {
         if sa == NO_DEPTH || sb == NO_DEPTH || self.disp(sa) < self.disp(sb) + MIN_EDGE {
             return false;
         }
-        // Both sides are surfaces, not a stray pixel: two pixels of each within a step.
-        let on =
-            |r: u16, s: u16| r != NO_DEPTH && (self.disp(r) - self.disp(s)).abs() < SAME_SURFACE;
-        if !on(row[a - 2], sa) || !(b + 1..b + SIDE).all(|u| on(row[u], sb)) {
+        // Both sides are surfaces, not a stray pixel: two pixels of the near one, four of the far.
+        if !self.on_surface(row[a - 2], sa)
+            || !(b + 1..b + SIDE).all(|u| self.on_surface(row[u], sb))
+        {
             return false;
         }
         // A hole another reading placed (a depthless occluder's) keeps its depth.
@@ -73,16 +73,16 @@ impl ColourSplit {
             return false;
         }
         // Only two colours a step apart tell which surface the RGB camera sees there.
-        if hue_dist(near, background) < self.dimmed(COLOUR_STEP, background) {
+        let step = self.dimmed(COLOUR_STEP, background);
+        if hue_dist(near, background) < step {
             return false;
         }
-        let step = self.dimmed(COLOUR_STEP, background) / 2;
         // The hole's first pixel, read at the background's depth, may take in the near edge's
         // blend; the others must show the background.
         let from = if b - a > 2 { a + 1 } else { a };
         let shows_background = (from..b).all(|u| {
             self.probe(rgb, u, v, sb)
-                .is_some_and(|p| hue_dist(p, background) < step)
+                .is_some_and(|p| hue_dist(p, background) < step / 2)
         });
         if shows_background {
             filled[v * WIDTH + a..v * WIDTH + b].fill(sa);

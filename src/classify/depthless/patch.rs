@@ -16,7 +16,7 @@
 //! left of Sb's): no reading. The part of the hole left of the shadow is then read by the
 //! colour split like any other hole (a depthless occluder's own shadow may lie there).
 
-use super::{hue_dist, relabel, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE};
+use super::{hue_dist, relabel, ColourSplit, COLOUR_STEP, SIDE};
 use crate::labels::{ATTACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
 /// Narrowest shadow (eq. 3, pixels) looked for.
@@ -124,7 +124,7 @@ impl ColourSplit {
     /// edge, whatever its depth there: a box's side seen at a slant starts at another depth in
     /// each row) whose left side is Sa's surface (raw `sa`).
     fn shadow_past_patch(&self, raw: &[u16], labels: &[u8], v: usize, b: usize, sa: u16) -> bool {
-        let on_sa = |r: u16| r != NO_DEPTH && (self.disp(r) - self.disp(sa)).abs() < SAME_SURFACE;
+        let on_sa = |r: u16| self.on_surface(r, sa);
         // Sb's edge may slant, up to half a pixel a row and MAX_SLANT pixels in all.
         let plain = |w: usize, d: usize| {
             let (r, l) = (
