@@ -4349,23 +4349,15 @@ fn detached_shadow_whose_right_end_hides_behind_a_nearer_rod() {
     push_grey_rod(&mut scene, 0.05, 0.7, 0.01);
     let shift = calib.fb() * (1.0 / 1.2 - 1.0 / 3.0);
     assert!((21.0..22.5).contains(&shift), "{shift}");
-    let (mut truth, mut got) = (0, 0);
-    for seed in 70..72 {
-        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
-        let out = classify(&calib, &frame);
-        let near_rod = (calib.depth.cx + 33.3).round() as usize;
-        for v in 40..HEIGHT - 40 {
-            let row = v * WIDTH;
-            // The hole touching the near rod's left edge (within the widening), by the labels.
-            let cols = near_rod - 25..near_rod + 3;
-            for u in cols {
-                if frame.ir_labels[row + u] == DETACHED && frame.raw[row + u] == NO_DEPTH {
-                    truth += 1;
-                    got += usize::from(out.ir_labels[row + u] == DETACHED);
-                }
-            }
-        }
-    }
+    let near_rod = (calib.depth.cx + 33.3).round() as usize;
+    // The hole touching the near rod's left edge (within the widening), by the labels.
+    let [(truth, got)] = depth_hits(
+        &scene,
+        &calib,
+        70..72,
+        (40..HEIGHT - 40, near_rod - 25..near_rod + 3),
+        [DETACHED],
+    );
     assert!(truth >= 2 * 300 * 5, "{truth} shadow pixels in the scene");
     // 12 933 of 12 934 measured; 5 without the test against the wall (the hole was OTHER).
     assert!(got * 10 >= truth * 9, "{got} of {truth} detached");
@@ -4405,28 +4397,14 @@ fn black_rod_whose_hole_merges_with_a_box_shadow_keeps_its_detached_shadow() {
         calib.fb() * (1.0 / 1.2 - 1.0 / 3.0),
     );
     assert!((box_shadow - 29.1).abs() < 0.2 && (rod_shift - 21.8).abs() < 0.2);
-    let (mut det, mut det_ok, mut att, mut att_ok) = (0, 0, 0, 0);
-    for seed in 80..82 {
-        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
-        let out = classify(&calib, &frame);
-        let cx = calib.depth.cx;
-        for v in 180..300 {
-            let row = v * WIDTH;
-            for u in (cx - 100.0) as usize..(cx - 20.0) as usize {
-                match frame.ir_labels[row + u] {
-                    DETACHED => {
-                        det += 1;
-                        det_ok += usize::from(out.ir_labels[row + u] == DETACHED);
-                    }
-                    ATTACHED => {
-                        att += 1;
-                        att_ok += usize::from(out.ir_labels[row + u] == ATTACHED);
-                    }
-                    _ => {}
-                }
-            }
-        }
-    }
+    let cx = calib.depth.cx;
+    let [(det, det_ok), (att, att_ok)] = depth_hits(
+        &scene,
+        &calib,
+        80..82,
+        (180..300, (cx - 100.0) as usize..(cx - 20.0) as usize),
+        [DETACHED, ATTACHED],
+    );
     // Measured: 97 % detached, 94 % attached; without the pairing, 1 % and none (all OTHER).
     assert!(
         det >= 2 * 120 * 14 && att >= 2 * 120 * 28,
@@ -4434,4 +4412,35 @@ fn black_rod_whose_hole_merges_with_a_box_shadow_keeps_its_detached_shadow() {
     );
     assert!(det_ok * 10 >= det * 9, "{det_ok} of {det} detached");
     assert!(att_ok * 10 >= att * 9, "{att_ok} of {att} attached");
+}
+
+/// `scene` through the Kinect sensor model, one frame per seed, classified from depth alone:
+/// per code of `codes`, how many hole pixels in the window (rows, columns) the simulator labels
+/// so, and how many of them the classifier labels so too.
+fn depth_hits<const N: usize>(
+    scene: &Scene,
+    calib: &Calibration,
+    seeds: std::ops::Range<u64>,
+    (rows, cols): (std::ops::Range<usize>, std::ops::Range<usize>),
+    codes: [u8; N],
+) -> [(usize, usize); N] {
+    let mut hits = [(0, 0); N];
+    for seed in seeds {
+        let frame = render_frame(scene, calib, &SensorModel::kinect(), seed);
+        let out = classify(calib, &frame);
+        for v in rows.clone() {
+            for i in cols.clone().map(|u| v * WIDTH + u) {
+                if frame.raw[i] != NO_DEPTH {
+                    continue;
+                }
+                for (&code, (truth, got)) in codes.iter().zip(&mut hits) {
+                    if frame.ir_labels[i] == code {
+                        *truth += 1;
+                        *got += usize::from(out.ir_labels[i] == code);
+                    }
+                }
+            }
+        }
+    }
+    hits
 }
