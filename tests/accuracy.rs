@@ -4515,6 +4515,61 @@ fn black_rods_detached_shadow_pairs_with_its_hole_widened_by_a_black_strip() {
     assert!(recall >= 0.85, "detached recall {recall:.3} of {truth}");
 }
 
+#[test]
+fn glossy_box_dropout_with_no_strip_past_its_other_colour_is_no_shadow() {
+    // The purple box of `glossy_box_dropout_before_its_own_other_colour_is_no_shadow`, its
+    // glossy purple part (29 px) then glossy green on to x = 0.13 m (46 px): an occluder as wide
+    // as a 29 px shift needs. But a depthless occluder 29 px of disparity before the box would
+    // show the RGB camera a strip of wall past its right edge, its shift over the wall's a third
+    // wide (f_rgb·0.025·(1/0.55 − 1/3) ≈ 21 px, at the depth that shift gives); the RGB camera
+    // sees green over the first half of it, up to where the box's own depth puts the edge.
+    let calib = Calibration::nyu_default();
+    let mut scene = before_a_pale_wall("glossy box in two colours, the second wide");
+    let purple = [0.45, 0.25, 0.5];
+    push_box(
+        &mut scene,
+        "box",
+        [-0.075, 0.0, 1.1],
+        [0.075, 0.3, 0.1],
+        umbra::synth::Material::matte(purple),
+    );
+    push_box(
+        &mut scene,
+        "box",
+        [0.025, 0.0, 1.1],
+        [0.025, 0.3, 0.1],
+        umbra::synth::Material::glossy(purple),
+    );
+    push_box(
+        &mut scene,
+        "box",
+        [0.09, 0.0, 1.1],
+        [0.04, 0.3, 0.1],
+        umbra::synth::Material::glossy([0.25, 0.5, 0.2]),
+    );
+    let cx = calib.depth.cx;
+    let cols = (cx - 2.0).round() as usize..(cx + calib.depth.fx * 0.13 + 2.0).round() as usize;
+    let (mut holes, mut attached) = (0, 0);
+    for seed in 84..86 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        let out = classify_rgb(&calib, &frame);
+        for v in 100..HEIGHT - 100 {
+            for i in cols.clone().map(|u| v * WIDTH + u) {
+                if frame.raw[i] == NO_DEPTH && frame.ir_labels[i] == OTHER {
+                    holes += 1;
+                    attached += usize::from(out.ir_labels[i] == ATTACHED);
+                }
+            }
+        }
+    }
+    assert!(holes >= 2 * 280 * 70, "{holes} dropout pixels in the scene");
+    // 0 of 42 000 measured; 23 520 without the strip's test.
+    assert!(
+        attached * 50 <= holes,
+        "{attached} of {holes} dropout pixels called attached"
+    );
+}
+
 /// `scene` through the Kinect sensor model, one frame per seed, classified from depth alone:
 /// per code of `codes`, how many hole pixels in the window (rows, columns) the simulator labels
 /// so, and how many of them the classifier labels so too.
