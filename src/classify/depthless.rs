@@ -1379,7 +1379,9 @@ impl ColourSplit {
     /// a strip of the farther surface the IR camera does not see (the alignment shadow, a third
     /// of the shift wide); none there, the colour change the split read lies at about the farther
     /// surface's depth (a glossy box's dropouts, then its next face). Only strips of
-    /// [`MIN_STRIP`] columns or more are read. (An independent simulator's 16 suites: complex IR
+    /// [`MIN_STRIP`] columns or more are read; most columns of the strip's first half must be
+    /// twice as close to the occluder's colour as to the surface's (merely closer, a mottled
+    /// wall's other colour in a real strip passed for the occluder). (An independent simulator's 16 suites: complex IR
     /// attached F1 +0.064 summed, any-shadow precision +0.087, recall −0.005, RGB alignment
     /// +0.066; k3 precision +0.033, k10 +0.021; this project's suites and the real frame
     /// unchanged.)
@@ -1392,8 +1394,11 @@ impl ColourSplit {
         at: u16,
         occluder: [i32; 3],
     ) -> bool {
-        let r = raw[v * WIDTH + c.b.min(WIDTH - 1)];
-        if c.b + SIDE > WIDTH || r == NO_DEPTH {
+        if c.b + SIDE > WIDTH {
+            return false;
+        }
+        let r = raw[v * WIDTH + c.b];
+        if r == NO_DEPTH {
             return false;
         }
         let (xo, yo) = self.project(c.b as f64 - 0.5, v, at);

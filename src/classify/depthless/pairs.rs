@@ -31,7 +31,8 @@ const OVER: usize = 8;
 /// both holes, each end by its own 0–3 px in each row. (At 1, a fifth simulator's glossy rods,
 /// whose holes it widens like their shadows', lost whole rows of their shadows to OTHER: at 3,
 /// complex IR detached F1 +0.032 summed over its 16 suites, k14 +0.021, recall +0.024, RGB
-/// any-shadow precision −0.002; this project's suites unchanged.)
+/// any-shadow precision −0.002; this project's suites unchanged, the real frame 3 px OTHER →
+/// detached.)
 const NARROWER: usize = 3;
 /// Shifts of the rows above and below may differ by this much (pixels): the sensor's widening
 /// moves each row's shadow end by 0–3 px.
