@@ -4425,44 +4425,8 @@ fn glossy_box_dropout_before_its_own_other_colour_is_no_shadow() {
     // is at least as wide as its shift: the IR camera, seeing the wall from x = 0.08 m on,
     // would have seen 29 px of it, not 17.
     let calib = Calibration::nyu_default();
-    let mut scene = before_a_pale_wall("glossy box in two colours");
-    let purple = [0.45, 0.25, 0.5];
-    push_box(
-        &mut scene,
-        "box",
-        [-0.075, 0.0, 1.1],
-        [0.075, 0.3, 0.1],
-        umbra::synth::Material::matte(purple),
-    );
-    push_box(
-        &mut scene,
-        "box",
-        [0.025, 0.0, 1.1],
-        [0.025, 0.3, 0.1],
-        umbra::synth::Material::glossy(purple),
-    );
-    push_box(
-        &mut scene,
-        "box",
-        [0.065, 0.0, 1.1],
-        [0.015, 0.3, 0.1],
-        umbra::synth::Material::glossy([0.25, 0.5, 0.2]),
-    );
-    let cx = calib.depth.cx;
-    let cols = (cx - 2.0).round() as usize..(cx + calib.depth.fx * 0.08 + 2.0).round() as usize;
-    let (mut holes, mut attached) = (0, 0);
-    for seed in 80..82 {
-        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
-        let out = classify_rgb(&calib, &frame);
-        for v in 100..HEIGHT - 100 {
-            for i in cols.clone().map(|u| v * WIDTH + u) {
-                if frame.raw[i] == NO_DEPTH && frame.ir_labels[i] == OTHER {
-                    holes += 1;
-                    attached += usize::from(out.ir_labels[i] == ATTACHED);
-                }
-            }
-        }
-    }
+    let scene = glossy_box_in_two_colours(0.08);
+    let (holes, attached) = dropouts_called_attached(&scene, &calib, 80..82, 0.08);
     assert!(holes >= 2 * 280 * 40, "{holes} dropout pixels in the scene");
     // 0 of 25 761 measured; 23 521 without the test of the occluder's width.
     assert!(
@@ -4524,35 +4488,58 @@ fn glossy_box_dropout_with_no_strip_past_its_other_colour_is_no_shadow() {
     // wide (f_rgb·0.025·(1/0.55 − 1/3) ≈ 21 px, at the depth that shift gives); the RGB camera
     // sees green over the first half of it, up to where the box's own depth puts the edge.
     let calib = Calibration::nyu_default();
-    let mut scene = before_a_pale_wall("glossy box in two colours, the second wide");
+    let scene = glossy_box_in_two_colours(0.13);
+    let (holes, attached) = dropouts_called_attached(&scene, &calib, 84..86, 0.13);
+    assert!(holes >= 2 * 280 * 70, "{holes} dropout pixels in the scene");
+    // 0 of 42 000 measured; 23 520 without the strip's test.
+    assert!(
+        attached * 50 <= holes,
+        "{attached} of {holes} dropout pixels called attached"
+    );
+}
+
+/// A matte purple box, front face at 1 m from x = −0.15 to 0 m, before the pale wall at 3 m,
+/// running on glossy (no depth) on its right: purple to x = 0.05 m, then green to `green_to`.
+fn glossy_box_in_two_colours(green_to: f64) -> Scene {
+    let mut scene = before_a_pale_wall("glossy box in two colours");
     let purple = [0.45, 0.25, 0.5];
-    push_box(
-        &mut scene,
-        "box",
-        [-0.075, 0.0, 1.1],
-        [0.075, 0.3, 0.1],
-        umbra::synth::Material::matte(purple),
-    );
-    push_box(
-        &mut scene,
-        "box",
-        [0.025, 0.0, 1.1],
-        [0.025, 0.3, 0.1],
-        umbra::synth::Material::glossy(purple),
-    );
-    push_box(
-        &mut scene,
-        "box",
-        [0.09, 0.0, 1.1],
-        [0.04, 0.3, 0.1],
-        umbra::synth::Material::glossy([0.25, 0.5, 0.2]),
-    );
+    let parts = [
+        (-0.15, 0.0, umbra::synth::Material::matte(purple)),
+        (0.0, 0.05, umbra::synth::Material::glossy(purple)),
+        (
+            0.05,
+            green_to,
+            umbra::synth::Material::glossy([0.25, 0.5, 0.2]),
+        ),
+    ];
+    for (from, to, material) in parts {
+        let (centre, half) = ((from + to) / 2.0, (to - from) / 2.0);
+        push_box(
+            &mut scene,
+            "box",
+            [centre, 0.0, 1.1],
+            [half, 0.3, 0.1],
+            material,
+        );
+    }
+    scene
+}
+
+/// Over `seeds`, in rows 100 to HEIGHT − 100 of the columns from the optical centre to
+/// `to_x` metres right of it at 1 m (2 px either side): the hole pixels the simulator labels
+/// OTHER, and how many of them the classifier (with RGB) calls attached.
+fn dropouts_called_attached(
+    scene: &Scene,
+    calib: &Calibration,
+    seeds: std::ops::Range<u64>,
+    to_x: f64,
+) -> (usize, usize) {
     let cx = calib.depth.cx;
-    let cols = (cx - 2.0).round() as usize..(cx + calib.depth.fx * 0.13 + 2.0).round() as usize;
+    let cols = (cx - 2.0).round() as usize..(cx + calib.depth.fx * to_x + 2.0).round() as usize;
     let (mut holes, mut attached) = (0, 0);
-    for seed in 84..86 {
-        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
-        let out = classify_rgb(&calib, &frame);
+    for seed in seeds {
+        let frame = render_frame(scene, calib, &SensorModel::kinect(), seed);
+        let out = classify_rgb(calib, &frame);
         for v in 100..HEIGHT - 100 {
             for i in cols.clone().map(|u| v * WIDTH + u) {
                 if frame.raw[i] == NO_DEPTH && frame.ir_labels[i] == OTHER {
@@ -4562,12 +4549,7 @@ fn glossy_box_dropout_with_no_strip_past_its_other_colour_is_no_shadow() {
             }
         }
     }
-    assert!(holes >= 2 * 280 * 70, "{holes} dropout pixels in the scene");
-    // 0 of 42 000 measured; 23 520 without the strip's test.
-    assert!(
-        attached * 50 <= holes,
-        "{attached} of {holes} dropout pixels called attached"
-    );
+    (holes, attached)
 }
 
 /// `scene` through the Kinect sensor model, one frame per seed, classified from depth alone:
