@@ -4239,13 +4239,57 @@ fn glossy_rod_beside_a_shaded_wall(radius: f64) -> (Confusion, Confusion) {
 
 #[test]
 fn box_side_face_seen_at_a_grazing_angle_is_no_shadow() {
-    // A blue box, x = 0.1..0.3 m, z = 0.9..1.1 m, before a pale wall at 3 m. Its left face
-    // (x = 0.1) faces the camera at a grazing angle (cos 0.1 at its middle) and returns no depth:
-    // by hand it spans columns cx + fx·0.1/1.1 to cx + fx·0.1/0.9 (53 to 65 px right of cx). The
-    // projector (7.5 cm right) lights it, so its far edge casts the shadow on the wall,
-    // f·b·(1/1.1 − 1/3) = 25 px left of that edge. Face and shadow are one hole, which eq. (3)
-    // from the front edge (34 px) fits as a whole: the RGB camera sees the face there, darker
-    // than the front (turned from the light) but of its hue.
+    // A blue box, lit well: read at the front edge's depth alone, the face's far part shows in
+    // the RGB image further right than that depth puts it (76 % of the face was told so, 97 %
+    // with the far edge's depth; none before).
+    let (face, shadow) = grazing_side_face(
+        [0.15, 0.35, 0.75],
+        SensorModel::kinect().rgb_noise_sigma,
+        40,
+    );
+    assert!(face >= 0.9, "{face:.3} of the face's pixels OTHER");
+    assert!(
+        shadow >= 0.98,
+        "{shadow:.3} of the shadow's pixels attached"
+    );
+}
+
+#[test]
+fn dark_box_side_face_in_shade_is_no_shadow_through_its_noisy_columns() {
+    // A dark brown box: its face in shade is so dim (R + G + B about 110) that the camera's
+    // noise puts a probe's chromaticity off the front's now and then. The face was read only
+    // up to the first such column, or not at all where the one probe before the reading fell
+    // on one (0.89 of its pixels OTHER over three frames, 0.84 in the worst; 0.99 now).
+    let (mut face, mut shadow) = (0.0, 1.0f64);
+    for seed in 41..44 {
+        let (f, s) = grazing_side_face(
+            [0.1, 0.05, 0.03],
+            SensorModel::kinect().rgb_noise_sigma,
+            seed,
+        );
+        face += f / 3.0;
+        shadow = shadow.min(s);
+    }
+    assert!(face >= 0.95, "{face:.3} of the face's pixels OTHER");
+    // The dark face also passes for a black surface the shadow runs onto, in some rows (the
+    // RGB camera sees it over the shadow's right part): 0.88 in the worst frame, as before.
+    assert!(
+        shadow >= 0.85,
+        "{shadow:.3} of the shadow's pixels attached"
+    );
+}
+
+/// A box of `colour`, x = 0.1..0.3 m, z = 0.9..1.1 m, before a pale wall at 3 m, with the noisy
+/// Kinect model (noise `seed`): the shares of its grazing side face's pixels called OTHER and of
+/// its attached shadow's middle called attached, in 80 rows about the box's middle.
+///
+/// Its left face (x = 0.1) faces the camera at a grazing angle (cos 0.1 at its middle) and
+/// returns no depth: by hand it spans columns cx + fx·0.1/1.1 to cx + fx·0.1/0.9 (53 to 65 px
+/// right of cx). The projector (7.5 cm right) lights it, so its far edge casts the shadow on the
+/// wall, f·b·(1/1.1 − 1/3) = 25 px left of that edge. Face and shadow are one hole, which eq.
+/// (3) from the front edge (34 px) fits as a whole: the RGB camera sees the face there, darker
+/// than the front (turned from the light) but of its hue.
+fn grazing_side_face(colour: [f64; 3], rgb_noise: f64, seed: u64) -> (f64, f64) {
     let calib = Calibration::nyu_default();
     let (fx, cx) = (calib.depth.fx, calib.depth.cx);
     let mut scene = Scene::new("box with a grazing side face");
@@ -4259,13 +4303,17 @@ fn box_side_face_seen_at_a_grazing_angle_is_no_shadow() {
         "box",
         [0.2, 0.0, 1.0],
         [0.1, 0.3, 0.1],
-        umbra::synth::Material::matte([0.15, 0.35, 0.75]),
+        umbra::synth::Material::matte(colour),
     );
     let (u_back, u_front) = (cx + fx * 0.1 / 1.1, cx + fx * 0.1 / 0.9);
     let shadow = (calib.fb() * (1.0 / 1.1 - 1.0 / 3.0)).round() as usize;
     assert_eq!(shadow, 25);
-    let mut frame = render_frame(&scene, &calib, &SensorModel::kinect(), 40);
-    // The face's columns, wholly inside it, in 80 rows about the box's middle.
+    let sensor = SensorModel {
+        rgb_noise_sigma: rgb_noise,
+        ..SensorModel::kinect()
+    };
+    let mut frame = render_frame(&scene, &calib, &sensor, seed);
+    // The face's columns, wholly inside it.
     let face_cols = u_back.ceil() as usize + 1..u_front.floor() as usize;
     let (mut face, mut shade) = (Vec::new(), Vec::new());
     for v in 200..280 {
@@ -4278,21 +4326,9 @@ fn box_side_face_seen_at_a_grazing_angle_is_no_shadow() {
     }
     assert!(face_cols.len() >= 8, "face {face_cols:?}");
     let out = classify_rgb(&calib, &frame);
-    let face_other = count_labelled(&out.ir_labels, &face, OTHER);
-    let shadow_kept = count_labelled(&out.ir_labels, &shade, ATTACHED);
-    // Read at the front edge's depth alone, the face's far part shows in the RGB image further
-    // right than that depth puts it (76 % of the face was told so, 97 % with the far edge's
-    // depth; none before).
-    assert!(
-        face_other * 10 >= face.len() * 9,
-        "{face_other} of {} face pixels OTHER",
-        face.len()
-    );
-    assert!(
-        shadow_kept * 100 >= shade.len() * 98,
-        "{shadow_kept} of {} shadow pixels attached",
-        shade.len()
-    );
+    let share =
+        |px: &[usize], code| count_labelled(&out.ir_labels, px, code) as f64 / px.len() as f64;
+    (share(&face, OTHER), share(&shade, ATTACHED))
 }
 
 #[test]

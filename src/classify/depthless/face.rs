@@ -65,16 +65,15 @@ impl ColourSplit {
         let Some(occluder) = self.mean_colour(rgb, v, b + 1..b + SIDE, sb) else {
             return;
         };
-        // Most attached holes show the wall there: one probe where the face must show, before
+        // Most attached holes show the wall there: two probes where the face must show, before
         // the wall's colour is read (a step as loose as a bright wall's: the test below is
         // dimmed by the wall, not by a dark occluder).
         let near = |p: [i32; 3]| {
             hue_dist(p, occluder) < self.dimmed(COLOUR_STEP, [255; 3])
                 || chroma_off(p, occluder) <= SAME_HUE
         };
-        if !self
-            .probe(rgb, b - BLEND - MIN_FACE, v, sb)
-            .is_some_and(near)
+        if !(b - BLEND - MIN_FACE - 1..=b - BLEND - MIN_FACE)
+            .any(|u| self.probe(rgb, u, v, sb).is_some_and(near))
         {
             return;
         }
@@ -96,23 +95,38 @@ impl ColourSplit {
                     && chroma_off(p, occluder) <= SAME_HUE
                     && 2 * chroma_off(p, wall) >= chroma_off(occluder, wall))
         };
-        // Leftwards from the blend while the RGB camera shows the occluder, and plainly not the
-        // wall: at Sb's depth, or at the depth of a far edge at `u` whose shadow starts at the
-        // hole's first pixel (eq. 3 with the sensor's widening): the face recedes from Sb to
-        // that edge, and its far part shows in the RGB image further right than Sb's depth puts
-        // it. (Left of the far edge both read the wall: left of where the RGB camera sees the
-        // occluder's edge, at either depth.)
+        // A column shows the occluder, and plainly not the wall, at Sb's depth or at the depth
+        // of a far edge at `u` whose shadow starts at the hole's first pixel (eq. 3 with the
+        // sensor's widening): the face recedes from Sb to that edge, and its far part shows in
+        // the RGB image further right than Sb's depth puts it. (Left of the far edge both read
+        // the wall: left of where the RGB camera sees the occluder's edge, at either depth.)
         let far_edge = |u: usize| {
             let d = self.disp(sa) + (u - a) as f64 - self.widen;
             (d > self.disp(sa) && d < self.disp(sb)).then(|| self.raw_at_disp(d))
         };
-        let face = (a..b - BLEND)
-            .rev()
-            .map_while(|u| {
-                let at = |r: u16| self.probe(rgb, u, v, r).is_some_and(shows_occluder);
-                (at(sb) || far_edge(u).is_some_and(at)).then_some(u)
+        let shows = |u: usize| {
+            let at = |r: u16| self.probe(rgb, u, v, r).is_some_and(shows_occluder);
+            at(sb) || far_edge(u).is_some_and(at)
+        };
+        let plainly_wall = |u: usize| {
+            self.probe(rgb, u, v, sb).is_some_and(|p| {
+                let (d_occ, d_wall) = (hue_dist(p, occluder), hue_dist(p, wall));
+                d_wall < step && 3 * d_wall <= d_occ
             })
-            .last();
+        };
+        // Leftwards from the blend up to the first column that plainly shows the wall; the face
+        // ends at the last column before it that shows the occluder. A face in shade is dark,
+        // and the camera's noise puts a probe's chromaticity off now and then: most of the
+        // columns must show the occluder, not all.
+        let (mut face, mut shown) = (None, 0);
+        for u in (a..b - BLEND).rev() {
+            if shows(u) {
+                (face, shown) = (Some(u), shown + 1);
+            } else if plainly_wall(u) {
+                break;
+            }
+        }
+        let face = face.filter(|&f| 3 * shown >= 2 * (b - BLEND - f));
         let Some(start) = face else {
             return;
         };
