@@ -104,15 +104,9 @@ impl ColourSplit {
             let d = self.disp(sa) + (u - a) as f64 - self.widen;
             (d > self.disp(sa) && d < self.disp(sb)).then(|| self.raw_at_disp(d))
         };
-        let shows = |u: usize| {
-            let at = |r: u16| self.probe(rgb, u, v, r).is_some_and(shows_occluder);
-            at(sb) || far_edge(u).is_some_and(at)
-        };
-        let plainly_wall = |u: usize| {
-            self.probe(rgb, u, v, sb).is_some_and(|p| {
-                let (d_occ, d_wall) = (hue_dist(p, occluder), hue_dist(p, wall));
-                d_wall < step && 3 * d_wall <= d_occ
-            })
+        let plainly_wall = |p: [i32; 3]| {
+            let (d_occ, d_wall) = (hue_dist(p, occluder), hue_dist(p, wall));
+            d_wall < step && 3 * d_wall <= d_occ
         };
         // Leftwards from the blend up to the first column that plainly shows the wall; the face
         // ends at the last column before it that shows the occluder. A face in shade is dark,
@@ -120,9 +114,11 @@ impl ColourSplit {
         // columns must show the occluder, not all.
         let (mut face, mut shown) = (None, 0);
         for u in (a..b - BLEND).rev() {
-            if shows(u) {
+            let at_sb = self.probe(rgb, u, v, sb);
+            let at_far = || far_edge(u).and_then(|r| self.probe(rgb, u, v, r));
+            if at_sb.is_some_and(shows_occluder) || at_far().is_some_and(shows_occluder) {
                 (face, shown) = (Some(u), shown + 1);
-            } else if plainly_wall(u) {
+            } else if at_sb.is_some_and(plainly_wall) {
                 break;
             }
         }
