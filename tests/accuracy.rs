@@ -4201,6 +4201,33 @@ fn glossy_rods_attached_shadow_is_split_off_beside_a_wall_shaded_towards_the_lef
     );
 }
 
+#[test]
+fn glossy_rods_attached_shadow_is_split_off_where_the_rod_runs_off_the_right_border() {
+    // The glossy rod (radius 2.5 cm, 22 px wide, at 1.3 m before the wall at 3 m) with its axis
+    // on the right border: half of it shows, 11 px, and its attached shadow, 19 px by eq. (3)
+    // and the sensor's widening, runs into it. One hole of about 33 px runs into the border. A
+    // real sensor's dead band there (8 px or more in every row) is no shadow, and open holes at
+    // the border narrower than 48 px were never read; a frame without the band has none
+    // (attached F1 0.97 over three frames; 0 before).
+    let calib = Calibration::nyu_default();
+    let x = (WIDTH as f64 - 0.5 - calib.depth.cx) * 1.3 / calib.depth.fx;
+    let mut scene = Scene::rod_before_wall(x, 1.3, 0.025, 3.0);
+    scene.objects[1].material = umbra::synth::Material::glossy([0.3, 0.2, 0.4]);
+    // 0.8 m long, about 360 rows: a rod in every row at the border would look like the band.
+    if let umbra::synth::Shape::Cylinder { half_len, .. } = &mut scene.objects[1].shape {
+        *half_len = 0.4;
+    }
+    let mut c = Confusion::default();
+    for seed in 0..3 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 90 + seed);
+        let row = &frame.raw[240 * WIDTH..241 * WIDTH];
+        let hole = row.iter().rev().take_while(|&&r| r == NO_DEPTH).count();
+        assert!((25..48).contains(&hole), "hole of {hole} px at the border");
+        c.add(&frame.ir_labels, &classify_rgb(&calib, &frame).ir_labels);
+    }
+    at_least(&c, Some(ATTACHED), 0.9, "IR attached beside the border");
+}
+
 /// A glossy rod of `radius` at 1.3 m before a wall at 3 m, with the noisy Kinect model: IR-view
 /// confusions with the simulator's RGB image, and with that image's wall shaded towards the
 /// left, from 80 % of its light left of the hole's start down to 45 % some 35 px further left,
