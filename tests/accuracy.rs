@@ -449,15 +449,19 @@ fn detached_shadow_of_a_rod_beyond_the_right_border_on_a_banded_wall_is_told_by_
 }
 
 /// A matte blue panel 1 cm thick, its front face 1 m away, from x = `x_edge` to 1 m past it and
-/// 0.6 m tall (rows 65 to 415 or so), before a wall at 3 m. (Were it as tall as the view, its
-/// shadow would end every row in a hole as a real sensor's dead band does, and be left alone.)
+/// 0.6 m tall (rows 65 to 415 or so), before a wall at 3 m.
 fn panel_beyond_the_right_border(x_edge: f64) -> Scene {
+    tall_panel_beyond_the_right_border(x_edge, 0.3)
+}
+
+/// [`panel_beyond_the_right_border`], `half_height` metres above and below the camera's axis.
+fn tall_panel_beyond_the_right_border(x_edge: f64, half_height: f64) -> Scene {
     let mut scene = before_a_pale_wall("panel beyond the right border");
     push_box(
         &mut scene,
         "panel",
         [x_edge + 0.5, 0.0, 1.005],
-        [0.5, 0.3, 0.005],
+        [0.5, half_height, 0.005],
         umbra::synth::Material::matte([0.2, 0.35, 0.8]),
     );
     scene
@@ -491,6 +495,29 @@ fn attached_shadow_of_a_panel_beyond_the_right_border_is_told_by_colour() {
         },
         0.95,
         "IR attached of a panel beyond the right border",
+    );
+}
+
+#[test]
+fn attached_shadow_of_a_panel_beyond_the_right_border_in_every_row_is_no_dead_band() {
+    // The same panel, taller than the view: its shadow runs into the border in every row, about
+    // 14 px wide, as a real sensor's dead band does (8 px or more in every row), and frames
+    // with the band are left alone there. The band is the sensor's own width wherever the
+    // scene is measured up to it (the real frame: 44 % of its rows within a pixel of 8 px); a
+    // shadow is its occluder's (attached F1 0.00 when every such frame was taken for one).
+    let calib = Calibration::nyu_default();
+    let edge = calib.depth.cx + calib.depth.fx * 0.58 / 1.01;
+    let start = edge - calib.fb() * (1.0 / 1.01 - 1.0 / 3.0);
+    told_by_colour_alone(
+        &tall_panel_beyond_the_right_border(0.58, 1.5),
+        |v, cols| {
+            assert!(
+                cols.len() > 10 && (cols[0] as f64 - start).abs() <= 1.0,
+                "row {v}: the scene's shadow {cols:?}, by hand from {start:.1}"
+            )
+        },
+        0.95,
+        "IR attached of a tall panel beyond the right border",
     );
 }
 

@@ -161,7 +161,7 @@ const GAP_CONFIRM_ROWS: usize = 3 * GAP_ROWS;
 /// Pixels either side of the split searched for that lit gap.
 const GAP_NEAR: usize = 3;
 /// Narrowest dead band (pixels) along the right border that marks a real sensor's frame: the
-/// NYU frame's is 8 px in every row.
+/// NYU frame's is 8 px in every row, and just that (within a pixel) in 44 % of them.
 const DEAD_BAND: usize = 8;
 /// Narrowest open hole at the right border considered (pixels) in a frame with the sensor's dead
 /// band there, wider than the band. Without the band (a simulator's frame) any hole is: a glossy
@@ -414,13 +414,17 @@ impl ColourSplit {
         self.border_read.fill(None);
         self.noise_scale = super::noise::step_scale(super::noise::rgb_noise(rgb));
         // A real sensor's dead band along the right border (8 px or more in every row) would
-        // read as an occluder's shadow running into the border in every row.
-        let band_rows = self
-            .masks
-            .iter()
-            .filter(|m| m.prev_valid_end(WIDTH) + DEAD_BAND <= WIDTH)
-            .count();
-        let dead_band = 10 * band_rows >= 9 * HEIGHT;
+        // read as an occluder's shadow running into the border in every row. The band is the
+        // sensor's own: wherever the scene is measured up to it, it is just that wide (the NYU
+        // frame: 44 % of rows within a pixel of 8 px). A tall occluder's shadow running into the
+        // border widens from row to row, and a region beyond range is wider still.
+        let (mut band_rows, mut bare_rows) = (0, 0);
+        for m in &self.masks {
+            let hole = WIDTH - m.prev_valid_end(WIDTH);
+            band_rows += usize::from(hole >= DEAD_BAND);
+            bare_rows += usize::from((DEAD_BAND..=DEAD_BAND + 1).contains(&hole));
+        }
+        let dead_band = 10 * band_rows >= 9 * HEIGHT && 5 * bare_rows >= HEIGHT;
         self.dead_band = dead_band;
         for v in 1..HEIGHT - 1 {
             let row = &raw[v * WIDTH..(v + 1) * WIDTH];
