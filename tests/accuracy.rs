@@ -454,6 +454,13 @@ fn panel_beyond_the_right_border(x_edge: f64) -> Scene {
     tall_panel_beyond_the_right_border(x_edge, 0.3)
 }
 
+/// By hand, for the panel from x = 0.58 m: the IR column of its left face's far edge and the
+/// one its shadow on the wall starts at, f·b·(1/1.01 − 1/3) px left of it.
+fn panel_shadow_by_hand(calib: &Calibration) -> (f64, f64) {
+    let edge = calib.depth.cx + calib.depth.fx * 0.58 / 1.01;
+    (edge, edge - calib.fb() * (1.0 / 1.01 - 1.0 / 3.0))
+}
+
 /// [`panel_beyond_the_right_border`], `half_height` metres above and below the camera's axis.
 fn tall_panel_beyond_the_right_border(x_edge: f64, half_height: f64) -> Scene {
     let mut scene = before_a_pale_wall("panel beyond the right border");
@@ -475,9 +482,7 @@ fn attached_shadow_of_a_panel_beyond_the_right_border_is_told_by_colour() {
     // edge: it starts inside the image and runs into the border, with nothing for eq. (3) on
     // its right. The RGB camera, a third of the way to the projector, sees the panel's edge a
     // third of that width left of where the shadow ends, over the wall: inside its image.
-    let calib = Calibration::nyu_default();
-    let edge = calib.depth.cx + calib.depth.fx * 0.58 / 1.01;
-    let start = edge - calib.fb() * (1.0 / 1.01 - 1.0 / 3.0);
+    let (edge, start) = panel_shadow_by_hand(&Calibration::nyu_default());
     assert!(
         edge > WIDTH as f64 && start < WIDTH as f64 - 10.0,
         "{start}..{edge}"
@@ -505,9 +510,7 @@ fn attached_shadow_of_a_panel_beyond_the_right_border_in_every_row_is_no_dead_ba
     // with the band are left alone there. The band is the sensor's own width wherever the
     // scene is measured up to it (the real frame: 44 % of its rows within a pixel of 8 px); a
     // shadow is its occluder's (attached F1 0.00 when every such frame was taken for one).
-    let calib = Calibration::nyu_default();
-    let edge = calib.depth.cx + calib.depth.fx * 0.58 / 1.01;
-    let start = edge - calib.fb() * (1.0 / 1.01 - 1.0 / 3.0);
+    let (_, start) = panel_shadow_by_hand(&Calibration::nyu_default());
     told_by_colour_alone(
         &tall_panel_beyond_the_right_border(0.58, 1.5),
         |v, cols| {

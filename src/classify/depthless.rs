@@ -424,8 +424,7 @@ impl ColourSplit {
             band_rows += usize::from(hole >= DEAD_BAND);
             bare_rows += usize::from((DEAD_BAND..=DEAD_BAND + 1).contains(&hole));
         }
-        let dead_band = 10 * band_rows >= 9 * HEIGHT && 5 * bare_rows >= HEIGHT;
-        self.dead_band = dead_band;
+        self.dead_band = 10 * band_rows >= 9 * HEIGHT && 5 * bare_rows >= HEIGHT;
         for v in 1..HEIGHT - 1 {
             let row = &raw[v * WIDTH..(v + 1) * WIDTH];
             let mask = &self.masks[v];
@@ -499,7 +498,7 @@ impl ColourSplit {
                 }
                 if !patched
                     && b == WIDTH
-                    && !dead_band
+                    && !self.dead_band
                     && self.off_image_attached(raw, rgb, v, (a, b), range)
                 {
                     // Where the wall beside it leaves the range, so does the shadow.
@@ -542,7 +541,7 @@ impl ColourSplit {
                 // (Narrower ones are no candidates beside the dead band: the test is read only for
                 // those that are.)
                 let beyond = b == WIDTH
-                    && (b - a >= MIN_BORDER_HOLE || !dead_band)
+                    && (b - a >= MIN_BORDER_HOLE || !self.dead_band)
                     && a > 0
                     && self.leaves_range(raw, v, a, range) == Some(true);
                 let split = (raw[i - 1] != NO_DEPTH && !beyond)
