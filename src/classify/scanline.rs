@@ -1226,6 +1226,9 @@ fn hidden_background(
     if from_above.is_some_and(|r| (p.disp(r) - p.disp(sb.near)).abs() < p.min_step) {
         return;
     }
+    if bridged(p, h, sa, sb, above, rows.down) {
+        return;
+    }
     // Sb's shadow on `bg` (eq. 3), if Sa lies before it (else nothing hides part of the shadow)
     // and it is no narrower than the hole.
     let width = (h.end - h.start) as f32;
@@ -1283,6 +1286,45 @@ fn hidden_background(
         }
     }
 }
+
+/// True when the surface over the hole's columns bridges Sa and Sb: in [`BRIDGE_COLS`] columns
+/// or more, the column memory shows a surface at the depth a line from Sa to Sb has there,
+/// clear of both. The hole is then a dropout in one curved surface (a glossy cylinder's face,
+/// whose slope no straight extrapolation carries over the hole), not Sb's shadow on a background
+/// Sa hides: behind a shadow lies that background, and Sa's or Sb's own surface beside it.
+fn bridged(p: &ScanParams, h: Run, sa: Bound, sb: Bound, above: &[u16], below: &[u16]) -> bool {
+    let (d_sa, d_sb) = (p.disp(sa.edge), p.disp(sb.edge));
+    let span = (h.end + 1 - h.start) as f32;
+    let on_line = |(c, &r): (usize, &u16)| {
+        if r == NO_DEPTH {
+            return false;
+        }
+        let d = p.disp(r);
+        let line = d_sa + (d_sb - d_sa) * (c + 1) as f32 / span;
+        (d - line).abs() < p.min_step
+            && (d - d_sa).abs() >= p.min_step
+            && (d - d_sb).abs() >= p.min_step
+    };
+    // The middle half only: near its ends, Sa's and Sb's own surfaces curve away above the hole
+    // (a thin rod, a cylinder's limb).
+    let quarter = (h.end - h.start) / 4;
+    let middle = h.start + quarter..h.end - quarter;
+    let up = middle
+        .clone()
+        .filter(|&c| on_line((c - h.start, &above[c])))
+        .count();
+    up >= BRIDGE_COLS
+        || up
+            + middle
+                .filter(|&c| {
+                    first_valid_below(below, c).is_some_and(|(_, r, _)| on_line((c - h.start, &r)))
+                })
+                .count()
+            >= BRIDGE_COLS
+}
+
+/// Columns of a surface between Sa and Sb that make [`bridged`] hold.
+const BRIDGE_COLS: usize = 3;
 
 /// The background an attached shadow lies on when it cannot lie on Sa: wider than Sb's shadow
 /// on Sa by more than the widening, with Sa a thin object standing clear of its surroundings
