@@ -4757,3 +4757,62 @@ fn dropout_on_a_cylinder_running_off_its_top_is_no_shadow_on_the_wall_above() {
         );
     }
 }
+
+#[test]
+fn box_side_face_above_a_farther_box_is_no_shadow_of_that_box() {
+    // A tall box, front face x = −0.35..−0.15 m at 1.15 m, 0.2 m deep, left of the camera: the
+    // camera sees its right side face, x = −0.15, at a grazing angle, between columns
+    // cx − fx·0.15/1.15 and cx − fx·0.15/1.35, about 11 px, and the sensor measures nothing there
+    // (blanked by hand, as a real sensor loses such a face). Right of the face, from the middle
+    // of the frame down, a lower box at 1.45 m; above it, the wall at 3 m. Below the lower
+    // box's top the hole lies between the tall box (Sa) and the lower box (Sb), with the wall
+    // above it in its columns: Sb's shadow on that wall, f·b·(1/1.45 − 1/3) ≈ 15 px, would fit
+    // the hole with Sa hiding its start. But the hole runs on up past the lower box's top with
+    // the same columns, and a shadow spans its occluder's rows only: it is the face, OTHER.
+    // (A fifth simulator's simple scene: 2 000 false attached pixels.)
+    let calib = Calibration::nyu_default();
+    let (fx, fy, cx, cy) = (
+        calib.depth.fx,
+        calib.depth.fy,
+        calib.depth.cx,
+        calib.depth.cy,
+    );
+    let mut scene = before_a_pale_wall("box side face above a farther box");
+    push_box(
+        &mut scene,
+        "tall box",
+        [-0.25, 0.0, 1.25],
+        [0.1, 0.45, 0.1],
+        umbra::synth::Material::matte([0.35, 0.2, 0.12]),
+    );
+    push_box(
+        &mut scene,
+        "lower box",
+        [0.03, 0.25, 1.55],
+        [0.2, 0.25, 0.1],
+        umbra::synth::Material::matte([0.55, 0.5, 0.4]),
+    );
+    let (u_front, u_back) = (cx - fx * 0.15 / 1.15, cx - fx * 0.15 / 1.35);
+    let face = u_front.ceil() as usize..u_back.floor() as usize + 1;
+    assert!(face.len() >= 9, "face {face:?}");
+    // Rows of the tall box (its front's top and bottom edges); the lower box's top is at y = 0,
+    // row cy.
+    let rows = (cy - fy * 0.45 / 1.15).ceil() as usize..(cy + fy * 0.45 / 1.15) as usize;
+    let lower_top = cy as usize;
+    for seed in 80..82 {
+        let mut frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        for v in rows.clone() {
+            frame.raw[v * WIDTH..(v + 1) * WIDTH][face.clone()].fill(NO_DEPTH);
+        }
+        let out = classify_rgb(&calib, &frame);
+        let below: Vec<usize> = (lower_top + 4..rows.end - 4)
+            .flat_map(|v| face.clone().map(move |u| v * WIDTH + u))
+            .collect();
+        let claimed = count_labelled(&out.ir_labels, &below, ATTACHED);
+        assert!(
+            claimed * 50 < below.len(),
+            "the face below the lower box's top called attached (seed {seed}): {claimed} of {} px",
+            below.len()
+        );
+    }
+}

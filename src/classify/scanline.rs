@@ -1226,7 +1226,7 @@ fn hidden_background(
     if from_above.is_some_and(|r| (p.disp(r) - p.disp(sb.near)).abs() < p.min_step) {
         return;
     }
-    if bridged(p, h, sa, sb, above, rows.down) {
+    if bridged(p, h, sa, sb, above, rows.down) || outruns_sb(p, h, sb, rows.up) {
         return;
     }
     // Sb's shadow on `bg` (eq. 3), if Sa lies before it (else nothing hides part of the shadow)
@@ -1322,6 +1322,55 @@ fn bridged(p: &ScanParams, h: Run, sa: Bound, sb: Bound, above: &[u16], below: &
                 .count()
             >= BRIDGE_COLS
 }
+
+/// True when the hole runs on above the top of Sb's surface: in the first row up its columns where
+/// Sb's first columns no longer show it, the middle half of the hole's columns is a hole too.
+/// A shadow spans its occluder's rows only (the projector is beside the camera, not above it),
+/// so there the hole is something else (a box's side face seen at a grazing angle, bounded by a
+/// farther box below and by the wall above), and Sb's shadow in this row would only be a
+/// coincidence.
+fn outruns_sb(p: &ScanParams, h: Run, sb: Bound, up: &[u16]) -> bool {
+    let width = h.end - h.start;
+    // Sb followed up row by row, its edge moving from row to row (the sensor's widening, a
+    // slanted occluder), its depth drifting (one slanting away up the rows).
+    let (mut edge, mut last) = (h.end, p.disp(sb.near));
+    let mut rows = up.chunks_exact(WIDTH).rev();
+    while let Some(row) = rows.next() {
+        let window = edge.saturating_sub(EDGE_JITTER)..(edge + EDGE_JITTER + 1).min(WIDTH);
+        let on_sb = window
+            .clone()
+            .find(|&u| row[u] != NO_DEPTH && (p.disp(row[u]) - last).abs() < 2.0 * p.min_step);
+        match on_sb {
+            Some(u) => (edge, last) = (u, p.disp(row[u])),
+            None => {
+                let Some(start) = edge.checked_sub(width) else {
+                    return false;
+                };
+                let quarter = width / 4;
+                let middle = start + quarter..edge - quarter;
+                let near_edge = edge - EDGE_JITTER.min(quarter)..(edge + EDGE_JITTER).min(WIDTH);
+                // The same hole, ending where Sb's edge was (a wider hole there is another region
+                // the sensor cannot measure, which Sb's top happens to bound); for rows on end,
+                // as an occluder's top face seen at a grazing angle is a hole of a few rows.
+                let same_hole = |row: &[u16]| {
+                    row[middle.clone()].iter().all(|&r| r == NO_DEPTH)
+                        && row[near_edge.clone()].iter().any(|&r| r != NO_DEPTH)
+                };
+                return std::iter::once(row)
+                    .chain(rows.take(RUN_ON - 1))
+                    .filter(|row| same_hole(row))
+                    .count()
+                    == RUN_ON;
+            }
+        }
+    }
+    false
+}
+
+/// Columns by which [`outruns_sb`] lets Sb's edge move from one row to the next.
+const EDGE_JITTER: usize = 4;
+/// Rows above Sb's top through which the hole must run on for [`outruns_sb`].
+const RUN_ON: usize = 8;
 
 /// Columns of a surface between Sa and Sb that make [`bridged`] hold.
 const BRIDGE_COLS: usize = 3;
