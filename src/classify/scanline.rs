@@ -1226,9 +1226,6 @@ fn hidden_background(
     if from_above.is_some_and(|r| (p.disp(r) - p.disp(sb.near)).abs() < p.min_step) {
         return;
     }
-    if bridged(p, h, sa, sb, above, rows.down) || outruns_sb(p, h, sb, rows.up) {
-        return;
-    }
     // Sb's shadow on `bg` (eq. 3), if Sa lies before it (else nothing hides part of the shadow)
     // and it is no narrower than the hole.
     let width = (h.end - h.start) as f32;
@@ -1268,6 +1265,11 @@ fn hidden_background(
     else {
         return;
     };
+    // Nor is a background that fits proof: the hole may be a dropout in one curved surface, or
+    // run on past Sb's top (read last: they walk columns).
+    if bridged(p, h, sa, sb, above, rows.down) || outruns_sb(p, h, sb, rows.up) {
+        return;
+    }
     label_attached(p, raw, h, w, rows, labels);
     // Where Sa's and Sb's slopes carried over the hole each land on the other, Sa hides no
     // background: the hole lies on one slanted surface, and only a thin occluder right of it
@@ -1295,12 +1297,13 @@ fn hidden_background(
 fn bridged(p: &ScanParams, h: Run, sa: Bound, sb: Bound, above: &[u16], below: &[u16]) -> bool {
     let (d_sa, d_sb) = (p.disp(sa.edge), p.disp(sb.edge));
     let span = (h.end + 1 - h.start) as f32;
-    let on_line = |(c, &r): (usize, &u16)| {
+    // Column `c` showing raw value `r`.
+    let on_line = |c: usize, r: u16| {
         if r == NO_DEPTH {
             return false;
         }
         let d = p.disp(r);
-        let line = d_sa + (d_sb - d_sa) * (c + 1) as f32 / span;
+        let line = d_sa + (d_sb - d_sa) * (c + 1 - h.start) as f32 / span;
         (d - line).abs() < p.min_step
             && (d - d_sa).abs() >= p.min_step
             && (d - d_sb).abs() >= p.min_step
@@ -1309,16 +1312,19 @@ fn bridged(p: &ScanParams, h: Run, sa: Bound, sb: Bound, above: &[u16], below: &
     // (a thin rod, a cylinder's limb).
     let quarter = (h.end - h.start) / 4;
     let middle = h.start + quarter..h.end - quarter;
-    let up = middle
-        .clone()
-        .filter(|&c| on_line((c - h.start, &above[c])))
-        .count();
+    let up = middle.clone().filter(|&c| on_line(c, above[c])).count();
+    let first_below = |c: usize| {
+        below
+            .iter()
+            .skip(c)
+            .step_by(WIDTH)
+            .copied()
+            .find(|&r| r != NO_DEPTH)
+    };
     up >= BRIDGE_COLS
         || up
             + middle
-                .filter(|&c| {
-                    first_valid_below(below, c).is_some_and(|(_, r, _)| on_line((c - h.start, &r)))
-                })
+                .filter(|&c| first_below(c).is_some_and(|r| on_line(c, r)))
                 .count()
             >= BRIDGE_COLS
 }
