@@ -17,6 +17,7 @@ use super::holes::HoleMask;
 use super::Params;
 use crate::calib::Calibration;
 use crate::labels::{ATTACHED, DETACHED, NO_DEPTH, OTHER, VALID, WIDTH};
+use std::cell::Cell;
 
 /// Most hole runs a 640-pixel row can hold.
 const MAX_RUNS: usize = WIDTH / 2 + 1;
@@ -157,6 +158,7 @@ fn classify_frame_body(
     // a shadow (a table top's, too wide only for a Kinect), no surface the sensor cannot measure.
     let mut above_labels = [VALID; WIDTH];
     let mut pending_from = 0;
+    let walks = Walks::new();
     for (v, (row, fill)) in raw
         .chunks_exact(WIDTH)
         .zip(filled.chunks_exact_mut(WIDTH))
@@ -195,6 +197,7 @@ fn classify_frame_body(
             &mut widening,
             Some(&mut too_wide),
             Some(&mut below_memory),
+            &walks,
         );
         for (m, &r) in column_memory.iter_mut().zip(row) {
             *m = if r != NO_DEPTH { r } else { *m };
@@ -218,6 +221,8 @@ struct Context<'a> {
     prev_labels: &'a [u8],
     /// The rows around this one.
     rows: Rows<'a>,
+    /// What the hidden background's walks up and down columns found in the rows so far.
+    walks: &'a Walks,
 }
 
 /// Every row above and every row below a row (whole rows of `n` values; either may be empty).
@@ -597,6 +602,7 @@ pub fn classify_row(
         &mut Widening::default(),
         None,
         None,
+        &Walks::new(),
     );
 }
 
@@ -618,6 +624,7 @@ fn classify_row_with(
     widening: &mut Widening,
     mut too_wide: Option<&mut TooWide>,
     mut below_memory: Option<&mut BelowMemory>,
+    walks: &Walks,
 ) {
     let n = raw.len();
     filled.copy_from_slice(raw);
@@ -638,6 +645,7 @@ fn classify_row_with(
                     above,
                     prev_labels,
                     rows: Rows { up, down: below },
+                    walks,
                 };
                 classify_bounded(p, raw, *h, sa, sb, context, labels, filled);
                 if labels[h.start] == ATTACHED && sb.edge < sa.edge {
@@ -958,6 +966,7 @@ fn classify_bounded(
         above,
         prev_labels,
         rows,
+        walks,
     } = context;
     let near = rows.near(raw.len());
     // A depthless occluder the hole before this one paired with (its detached shadow) may fill
@@ -1003,7 +1012,17 @@ fn classify_bounded(
             return;
         }
         if labels[h.start] == OTHER {
-            hidden_background(p, raw, h, sa, sb, (above, range), rows, labels, filled);
+            hidden_background(
+                p,
+                raw,
+                h,
+                sa,
+                sb,
+                (above, range, walks),
+                rows,
+                labels,
+                filled,
+            );
         } else if let Some(bg) = behind_thin_sa(p, raw, h, sa, sb, w, above) {
             place(filled, raw, h, bg);
         }
@@ -1049,7 +1068,17 @@ fn classify_bounded(
                 label_attached(p, raw, h, w, rows, labels);
             }
             if labels[h.start] == OTHER {
-                hidden_background(p, raw, h, sa, sb, (above, range), rows, labels, filled);
+                hidden_background(
+                    p,
+                    raw,
+                    h,
+                    sa,
+                    sb,
+                    (above, range, walks),
+                    rows,
+                    labels,
+                    filled,
+                );
             }
         }
         Detached::Measured => set(labels, raw, h.start, h.end, DETACHED),
@@ -1198,7 +1227,7 @@ fn hidden_background(
     h: Run,
     sa: Bound,
     sb: Bound,
-    (above, range): (&[u16], Range),
+    (above, range, walks): (&[u16], Range, &Walks),
     rows: Rows,
     labels: &mut [u8],
     filled: &mut [u16],
@@ -1267,7 +1296,7 @@ fn hidden_background(
     };
     // Nor is a background that fits proof: the hole may be a dropout in one curved surface, or
     // run on past Sb's top (read last: they walk columns).
-    if bridged(p, h, sa, sb, above, rows.down) || outruns_sb(p, h, sb, rows.up) {
+    if bridged(p, h, (sa, sb), above, rows, walks) || outruns_sb(p, h, sb, rows.up, walks) {
         return;
     }
     label_attached(p, raw, h, w, rows, labels);
@@ -1294,7 +1323,14 @@ fn hidden_background(
 /// clear of both. The hole is then a dropout in one curved surface (a glossy cylinder's face,
 /// whose slope no straight extrapolation carries over the hole), not Sb's shadow on a background
 /// Sa hides: behind a shadow lies that background, and Sa's or Sb's own surface beside it.
-fn bridged(p: &ScanParams, h: Run, sa: Bound, sb: Bound, above: &[u16], below: &[u16]) -> bool {
+fn bridged(
+    p: &ScanParams,
+    h: Run,
+    (sa, sb): (Bound, Bound),
+    above: &[u16],
+    rows: Rows,
+    walks: &Walks,
+) -> bool {
     let (d_sa, d_sb) = (p.disp(sa.edge), p.disp(sb.edge));
     let span = (h.end + 1 - h.start) as f32;
     // Column `c` showing raw value `r`.
@@ -1313,64 +1349,148 @@ fn bridged(p: &ScanParams, h: Run, sa: Bound, sb: Bound, above: &[u16], below: &
     let quarter = (h.end - h.start) / 4;
     let middle = h.start + quarter..h.end - quarter;
     let up = middle.clone().filter(|&c| on_line(c, above[c])).count();
-    let first_below = |c: usize| {
-        below
-            .iter()
-            .skip(c)
-            .step_by(WIDTH)
-            .copied()
-            .find(|&r| r != NO_DEPTH)
-    };
+    let v = rows.up.len() / WIDTH;
     up >= BRIDGE_COLS
         || up
             + middle
-                .filter(|&c| first_below(c).is_some_and(|r| on_line(c, r)))
+                .filter(|&c| {
+                    walks
+                        .first_below(v, rows.down, c)
+                        .is_some_and(|r| on_line(c, r))
+                })
                 .count()
             >= BRIDGE_COLS
 }
 
+/// What the hidden background's walks along columns found, kept for the rows after: a shadow's
+/// hole runs down many rows under the same Sb and asks the same columns in turn, so each walk
+/// runs about once per frame (a tall box's shadow took a quarter more instructions on its frame
+/// without).
+struct Walks {
+    /// Where [`outruns_sb`] last found Sb's top, for the last few Sbs it was asked about (a row
+    /// may hold more than one such hole).
+    sb_tops: [Cell<Option<SbTop>>; SB_TOPS],
+    /// The slot of `sb_tops` the next new Sb takes.
+    next_top: Cell<usize>,
+    /// Per column, the first valid pixel below the rows searched so far: its row in the high
+    /// half (the frame's height if none; 0 where never searched), its raw value in the low.
+    below: [Cell<u32>; WIDTH],
+}
+
+impl Walks {
+    fn new() -> Self {
+        Walks {
+            sb_tops: [const { Cell::new(None) }; SB_TOPS],
+            next_top: Cell::new(0),
+            below: [const { Cell::new(0) }; WIDTH],
+        }
+    }
+
+    /// The first valid raw value in column `c` below row `v` (`below`: the rows under it).
+    fn first_below(&self, v: usize, below: &[u16], c: usize) -> Option<u16> {
+        let known = self.below[c].get();
+        // Still below this row: every row between was a hole in this column.
+        let r = if (known >> 16) as usize > v {
+            (known & 0xffff) as u16
+        } else {
+            let column = below.iter().skip(c).step_by(WIDTH);
+            let (k, r) = column
+                .enumerate()
+                .find(|&(_, &r)| r != NO_DEPTH)
+                .map_or((below.len() / WIDTH, NO_DEPTH), |(k, &r)| (k, r));
+            self.below[c].set(((v + 1 + k) as u32) << 16 | u32::from(r));
+            r
+        };
+        (r != NO_DEPTH).then_some(r)
+    }
+}
+
 /// True when the hole runs on above the top of Sb's surface: in the first row up its columns where
-/// Sb's first columns no longer show it, the middle half of the hole's columns is a hole too.
-/// A shadow spans its occluder's rows only (the projector is beside the camera, not above it),
-/// so there the hole is something else (a box's side face seen at a grazing angle, bounded by a
-/// farther box below and by the wall above), and Sb's shadow in this row would only be a
-/// coincidence.
-fn outruns_sb(p: &ScanParams, h: Run, sb: Bound, up: &[u16]) -> bool {
+/// Sb's first columns no longer show it, the middle half of the hole's columns is a hole too,
+/// ending where Sb's edge was, and so for [`RUN_ON`] rows. A shadow spans its occluder's rows
+/// only (the projector is beside the camera, not above it), so there the hole is something else
+/// (a box's side face seen at a grazing angle, bounded by a farther box below and by the wall
+/// above), and Sb's shadow in this row would only be a coincidence. `up` holds every row above
+/// this one; `walks`, the tops the row above found.
+fn outruns_sb(p: &ScanParams, h: Run, sb: Bound, up: &[u16], walks: &Walks) -> bool {
+    let (v, d_sb) = (up.len() / WIDTH, p.disp(sb.near));
+    let same_sb = |m: &SbTop| {
+        m.row + 1 == v
+            && m.edge.abs_diff(h.end) <= EDGE_JITTER
+            && (m.disp - d_sb).abs() < 2.0 * p.min_step
+    };
+    let slot = walks
+        .sb_tops
+        .iter()
+        .find(|c| c.get().is_some_and(|m| same_sb(&m)));
+    let (slot, top) = match slot {
+        Some(slot) => (slot, slot.get().and_then(|m| m.top)),
+        None => {
+            let k = walks.next_top.get();
+            walks.next_top.set((k + 1) % SB_TOPS);
+            (&walks.sb_tops[k], top_of_sb(p, h.end, d_sb, up))
+        }
+    };
+    slot.set(Some(SbTop {
+        row: v,
+        edge: h.end,
+        disp: d_sb,
+        top,
+    }));
+    let Some((t, edge)) = top else {
+        return false;
+    };
     let width = h.end - h.start;
-    // Sb followed up row by row, its edge moving from row to row (the sensor's widening, a
-    // slanted occluder), its depth drifting (one slanting away up the rows).
-    let (mut edge, mut last) = (h.end, p.disp(sb.near));
-    let mut rows = up.chunks_exact(WIDTH).rev();
-    while let Some(row) = rows.next() {
+    let Some(start) = edge.checked_sub(width) else {
+        return false;
+    };
+    let quarter = width / 4;
+    let middle = start + quarter..edge - quarter;
+    let near_edge = edge - EDGE_JITTER.min(quarter)..(edge + EDGE_JITTER).min(WIDTH);
+    // The same hole, ending where Sb's edge was (a wider hole there is another region the
+    // sensor cannot measure, which Sb's top happens to bound); for rows on end, as an
+    // occluder's top face seen at a grazing angle is a hole of a few rows.
+    let same_hole = |row: &[u16]| {
+        row[middle.clone()].iter().all(|&r| r == NO_DEPTH)
+            && row[near_edge.clone()].iter().any(|&r| r != NO_DEPTH)
+    };
+    t + 1 >= RUN_ON && (0..RUN_ON).all(|k| same_hole(&up[(t - k) * WIDTH..(t - k + 1) * WIDTH]))
+}
+
+/// Where Sb's top is, above the current row (`up`: every row above it): the first row up whose
+/// columns around Sb's edge no longer show Sb, and Sb's edge in the row below that; `None` when
+/// Sb reaches the frame's top. Sb is followed up row by row, its edge moving from row to row
+/// (the sensor's widening, a slanted occluder), its depth drifting (one slanting away up the
+/// rows).
+fn top_of_sb(p: &ScanParams, end: usize, d_sb: f32, up: &[u16]) -> Option<(usize, usize)> {
+    let (mut edge, mut last) = (end, d_sb);
+    for (t, row) in up.chunks_exact(WIDTH).enumerate().rev() {
         let window = edge.saturating_sub(EDGE_JITTER)..(edge + EDGE_JITTER + 1).min(WIDTH);
         let on_sb = window
             .clone()
             .find(|&u| row[u] != NO_DEPTH && (p.disp(row[u]) - last).abs() < 2.0 * p.min_step);
         match on_sb {
             Some(u) => (edge, last) = (u, p.disp(row[u])),
-            None => {
-                let Some(start) = edge.checked_sub(width) else {
-                    return false;
-                };
-                let quarter = width / 4;
-                let middle = start + quarter..edge - quarter;
-                let near_edge = edge - EDGE_JITTER.min(quarter)..(edge + EDGE_JITTER).min(WIDTH);
-                // The same hole, ending where Sb's edge was (a wider hole there is another region
-                // the sensor cannot measure, which Sb's top happens to bound); for rows on end,
-                // as an occluder's top face seen at a grazing angle is a hole of a few rows.
-                let same_hole = |row: &[u16]| {
-                    row[middle.clone()].iter().all(|&r| r == NO_DEPTH)
-                        && row[near_edge.clone()].iter().any(|&r| r != NO_DEPTH)
-                };
-                return std::iter::once(row)
-                    .chain(rows.take(RUN_ON - 1))
-                    .filter(|row| same_hole(row))
-                    .count()
-                    == RUN_ON;
-            }
+            None => return Some((t, edge)),
         }
     }
-    false
+    None
+}
+
+/// Sbs whose tops [`Walks`] keeps.
+const SB_TOPS: usize = 4;
+
+/// What [`outruns_sb`] found for the hole under an Sb in one row.
+#[derive(Clone, Copy, Debug)]
+struct SbTop {
+    /// The row.
+    row: usize,
+    /// Sb's edge there (the hole's end).
+    edge: usize,
+    /// Sb's disparity there.
+    disp: f32,
+    /// [`top_of_sb`]'s answer.
+    top: Option<(usize, usize)>,
 }
 
 /// Columns by which [`outruns_sb`] lets Sb's edge move from one row to the next.
@@ -2980,6 +3100,40 @@ mod tests {
             }
         }
         runs
+    }
+
+    #[test]
+    fn first_pixel_below_kept_from_row_to_row_is_the_one_a_scan_finds() {
+        // Columns of long holes (a shadow running down many rows) with single valid pixels and
+        // runs of them between, read row by row from the top in a few columns each row, as the
+        // hidden background reads them: the kept answer must be the column scanned afresh.
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+        let frame: Vec<u16> = (0..PIXELS)
+            .map(|_| {
+                if rng.random_bool(0.93) {
+                    NO_DEPTH
+                } else {
+                    rng.random_range(400..1000)
+                }
+            })
+            .collect();
+        let walks = Walks::new();
+        for v in 0..HEIGHT {
+            let below = &frame[(v + 1) * WIDTH..];
+            for _ in 0..40 {
+                let c = rng.random_range(0..WIDTH);
+                let scanned = below
+                    .chunks_exact(WIDTH)
+                    .map(|row| row[c])
+                    .find(|&r| r != NO_DEPTH);
+                assert_eq!(
+                    walks.first_below(v, below, c),
+                    scanned,
+                    "row {v}, column {c}"
+                );
+            }
+        }
     }
 
     #[test]
