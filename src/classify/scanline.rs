@@ -1296,7 +1296,7 @@ fn hidden_background(
     };
     // Nor is a background that fits proof: the hole may be a dropout in one curved surface, or
     // run on past Sb's top (read last: they walk columns).
-    if bridged(p, h, (sa, sb), above, rows, walks) || outruns_sb(p, h, sb, rows.up, walks) {
+    if bridged(p, h, (sa, sb), above, rows, walks) || outruns_sb(p, h, sb, rows, walks) {
         return;
     }
     label_attached(p, raw, h, w, rows, labels);
@@ -1367,11 +1367,11 @@ fn bridged(
 /// runs about once per frame (a tall box's shadow took a quarter more instructions on its frame
 /// without).
 struct Walks {
-    /// Where [`outruns_sb`] last found Sb's top, for the last few Sbs it was asked about (a row
+    /// Where [`outruns_sb`] last found Sb's ends, for the last few Sbs it was asked about (a row
     /// may hold more than one such hole).
-    sb_tops: [Cell<Option<SbTop>>; SB_TOPS],
-    /// The slot of `sb_tops` the next new Sb takes.
-    next_top: Cell<usize>,
+    sb_ends: [Cell<Option<SbEnds>>; SB_ENDS],
+    /// The slot of `sb_ends` the next new Sb takes.
+    next_sb: Cell<usize>,
     /// Per column, the first valid pixel below the rows searched so far: its row in the high
     /// half (the frame's height if none; 0 where never searched), its raw value in the low.
     below: [Cell<u32>; WIDTH],
@@ -1380,8 +1380,8 @@ struct Walks {
 impl Walks {
     fn new() -> Self {
         Walks {
-            sb_tops: [const { Cell::new(None) }; SB_TOPS],
-            next_top: Cell::new(0),
+            sb_ends: [const { Cell::new(None) }; SB_ENDS],
+            next_sb: Cell::new(0),
             below: [const { Cell::new(0) }; WIDTH],
         }
     }
@@ -1405,66 +1405,98 @@ impl Walks {
     }
 }
 
-/// True when the hole runs on above the top of Sb's surface: in the first row up its columns where
-/// Sb's first columns no longer show it, the middle half of the hole's columns is a hole too,
-/// ending where Sb's edge was, and so for [`RUN_ON`] rows. A shadow spans its occluder's rows
-/// only (the projector is beside the camera, not above it), so there the hole is something else
-/// (a box's side face seen at a grazing angle, bounded by a farther box below and by the wall
-/// above), and Sb's shadow in this row would only be a coincidence. `up` holds every row above
-/// this one; `walks`, the tops the row above found.
-fn outruns_sb(p: &ScanParams, h: Run, sb: Bound, up: &[u16], walks: &Walks) -> bool {
-    let (v, d_sb) = (up.len() / WIDTH, p.disp(sb.near));
-    let same_sb = |m: &SbTop| {
+/// True when the hole runs on past Sb's top or bottom: in the first row up (or down) its columns
+/// where Sb's first columns no longer show it, the middle half of the hole's columns is a hole
+/// too, ending where Sb's edge was, and so for [`RUN_ON`] rows up ([`RUN_ON_DOWN`] down). A
+/// shadow spans its occluder's rows only (the projector is beside the camera, not above it), so
+/// there the hole is something else that Sb happens to bound in this row (a box's side face
+/// seen at a grazing angle, with a farther box right of it below and the wall above; a region
+/// beyond range between two rods that stand before a box below it), and Sb's shadow would only
+/// be a coincidence. `walks` holds what the row above found under the same Sb.
+fn outruns_sb(p: &ScanParams, h: Run, sb: Bound, rows: Rows, walks: &Walks) -> bool {
+    let (v, d_sb) = (rows.up.len() / WIDTH, p.disp(sb.near));
+    let same_sb = |m: &SbEnds| {
         m.row + 1 == v
             && m.edge.abs_diff(h.end) <= EDGE_JITTER
             && (m.disp - d_sb).abs() < 2.0 * p.min_step
     };
     let slot = walks
-        .sb_tops
+        .sb_ends
         .iter()
         .find(|c| c.get().is_some_and(|m| same_sb(&m)));
-    let (slot, top) = match slot {
-        Some(slot) => (slot, slot.get().and_then(|m| m.top)),
+    let (slot, known) = match slot {
+        Some(slot) => (slot, slot.get()),
         None => {
-            let k = walks.next_top.get();
-            walks.next_top.set((k + 1) % SB_TOPS);
-            (&walks.sb_tops[k], top_of_sb(p, h.end, d_sb, up))
+            let k = walks.next_sb.get();
+            walks.next_sb.set((k + 1) % SB_ENDS);
+            (&walks.sb_ends[k], None)
         }
     };
-    slot.set(Some(SbTop {
+    let up = rows.up.chunks_exact(WIDTH).enumerate().rev();
+    let top = known.map_or_else(|| end_of_sb(p, h.end, d_sb, up), |m| m.top);
+    let mut ends = SbEnds {
         row: v,
         edge: h.end,
         disp: d_sb,
         top,
-    }));
-    let Some((t, edge)) = top else {
-        return false;
+        // (Found from the row above, Sb's bottom lies below this row too, unless Sb moved off
+        // the window in this very row: then it is read again.)
+        bottom: known
+            .and_then(|m| m.bottom)
+            .filter(|b| b.is_none_or(|(b, _)| b > v)),
     };
+    // The hole's columns, moved with Sb's edge to where Sb ends.
     let width = h.end - h.start;
-    let Some(start) = edge.checked_sub(width) else {
-        return false;
+    let same_hole = |edge: usize| {
+        let start = edge.checked_sub(width)?;
+        let quarter = width / 4;
+        let middle = start + quarter..edge - quarter;
+        let near_edge = edge - EDGE_JITTER.min(quarter)..(edge + EDGE_JITTER).min(WIDTH);
+        // Ending where Sb's edge was: a wider hole there is another region the sensor cannot
+        // measure, which Sb's end happens to bound.
+        Some(move |row: &[u16]| {
+            row[middle.clone()].iter().all(|&r| r == NO_DEPTH)
+                && row[near_edge.clone()].iter().any(|&r| r != NO_DEPTH)
+        })
     };
-    let quarter = width / 4;
-    let middle = start + quarter..edge - quarter;
-    let near_edge = edge - EDGE_JITTER.min(quarter)..(edge + EDGE_JITTER).min(WIDTH);
-    // The same hole, ending where Sb's edge was (a wider hole there is another region the
-    // sensor cannot measure, which Sb's top happens to bound); for rows on end, as an
-    // occluder's top face seen at a grazing angle is a hole of a few rows.
-    let same_hole = |row: &[u16]| {
-        row[middle.clone()].iter().all(|&r| r == NO_DEPTH)
-            && row[near_edge.clone()].iter().any(|&r| r != NO_DEPTH)
+    // For rows on end: an occluder's top face seen at a grazing angle is a hole of a few rows
+    // across its shadow's columns; below an occluder, its lower face's shadow runs on further.
+    let above = top.is_some_and(|(t, edge)| {
+        t + 1 >= RUN_ON
+            && same_hole(edge).is_some_and(|same| {
+                (0..RUN_ON).all(|k| same(&rows.up[(t - k) * WIDTH..(t - k + 1) * WIDTH]))
+            })
+    });
+    let outruns = above || {
+        let bottom = *ends.bottom.get_or_insert_with(|| {
+            let down = rows.down.chunks_exact(WIDTH).enumerate();
+            end_of_sb(p, h.end, d_sb, down).map(|(k, edge)| (v + 1 + k, edge))
+        });
+        bottom.is_some_and(|(b, edge)| {
+            let k = b - (v + 1);
+            (k + RUN_ON_DOWN) * WIDTH <= rows.down.len()
+                && same_hole(edge).is_some_and(|same| {
+                    (k..k + RUN_ON_DOWN).all(|k| same(&rows.down[k * WIDTH..(k + 1) * WIDTH]))
+                })
+        })
     };
-    t + 1 >= RUN_ON && (0..RUN_ON).all(|k| same_hole(&up[(t - k) * WIDTH..(t - k + 1) * WIDTH]))
+    slot.set(Some(ends));
+    outruns
 }
 
-/// Where Sb's top is, above the current row (`up`: every row above it): the first row up whose
-/// columns around Sb's edge no longer show Sb, and Sb's edge in the row below that; `None` when
-/// Sb reaches the frame's top. Sb is followed up row by row, its edge moving from row to row
-/// (the sensor's widening, a slanted occluder), its depth drifting (one slanting away up the
-/// rows).
-fn top_of_sb(p: &ScanParams, end: usize, d_sb: f32, up: &[u16]) -> Option<(usize, usize)> {
+/// Where Sb ends along `rows` (numbered rows of the frame, from the current row outwards): the
+/// first whose columns around Sb's edge no longer show Sb, and Sb's edge in the row before it;
+/// `None` when Sb reaches the frame's border. Sb is followed row by row, its edge moving from
+/// row to row (the sensor's widening, a slanted occluder), its depth drifting (one slanting
+/// away).
+fn end_of_sb<'a>(
+    p: &ScanParams,
+    end: usize,
+    d_sb: f32,
+    rows: impl Iterator<Item = (usize, &'a [u16])>,
+) -> Option<(usize, usize)> {
     let (mut edge, mut last) = (end, d_sb);
-    for (t, row) in up.chunks_exact(WIDTH).enumerate().rev() {
+    for (t, row) in rows {
         let window = edge.saturating_sub(EDGE_JITTER)..(edge + EDGE_JITTER + 1).min(WIDTH);
         let on_sb = window
             .clone()
@@ -1477,26 +1509,32 @@ fn top_of_sb(p: &ScanParams, end: usize, d_sb: f32, up: &[u16]) -> Option<(usize
     None
 }
 
-/// Sbs whose tops [`Walks`] keeps.
-const SB_TOPS: usize = 4;
+/// Sbs whose ends [`Walks`] keeps.
+const SB_ENDS: usize = 4;
 
 /// What [`outruns_sb`] found for the hole under an Sb in one row.
 #[derive(Clone, Copy, Debug)]
-struct SbTop {
+struct SbEnds {
     /// The row.
     row: usize,
     /// Sb's edge there (the hole's end).
     edge: usize,
     /// Sb's disparity there.
     disp: f32,
-    /// [`top_of_sb`]'s answer.
+    /// [`end_of_sb`] upwards: the row above Sb's top and Sb's edge below it.
     top: Option<(usize, usize)>,
+    /// The same downwards, once read (the outer `None`: not read yet).
+    bottom: Option<Option<(usize, usize)>>,
 }
 
 /// Columns by which [`outruns_sb`] lets Sb's edge move from one row to the next.
 const EDGE_JITTER: usize = 4;
 /// Rows above Sb's top through which the hole must run on for [`outruns_sb`].
 const RUN_ON: usize = 8;
+/// Rows below Sb's bottom through which the hole must run on for [`outruns_sb`]: more, for an
+/// occluder's lower face casts its shadow on a few rows past its end (16 at most, as
+/// [`background_below`] reads them).
+const RUN_ON_DOWN: usize = 24;
 
 /// Columns of a surface between Sa and Sb that make [`bridged`] hold.
 const BRIDGE_COLS: usize = 3;
@@ -3100,6 +3138,80 @@ mod tests {
             }
         }
         runs
+    }
+
+    /// A frame (whole rows) of a wall at 3 m with a box at 1.2 m left of column 300, a hole
+    /// `[300, 330)` in rows `hole_rows`, and an occluder at 0.8 m from column 330 on in rows
+    /// `sb_rows`: where the hole runs on past the occluder, the wall bounds it.
+    fn hole_beside(
+        c: &Calibration,
+        hole_rows: std::ops::Range<usize>,
+        sb_rows: std::ops::Range<usize>,
+    ) -> Vec<u16> {
+        let (wall, sa, sb) = (raw_at(c, 3.0), raw_at(c, 1.2), raw_at(c, 0.8));
+        let mut frame = vec![wall; PIXELS];
+        for (v, row) in frame.chunks_exact_mut(WIDTH).enumerate() {
+            row[200..300].fill(sa);
+            if hole_rows.contains(&v) {
+                row[300..330].fill(NO_DEPTH);
+            }
+            if sb_rows.contains(&v) {
+                row[330..400].fill(sb);
+            }
+        }
+        frame
+    }
+
+    #[test]
+    fn a_hole_running_on_past_its_occluders_end_outruns_it_and_a_shadow_does_not() {
+        // The hole in row 200, between the box and the occluder, as the hidden background reads
+        // it. The occluder spans rows 100..260 (or 100..300).
+        let (c, p) = params();
+        let outruns = |hole_rows: std::ops::Range<usize>, sb_rows: std::ops::Range<usize>| {
+            let frame = hole_beside(&c, hole_rows, sb_rows);
+            let v = 200;
+            let raw = &frame[v * WIDTH..(v + 1) * WIDTH];
+            let h = Run {
+                start: 300,
+                end: 330,
+            };
+            let rows = Rows {
+                up: &frame[..v * WIDTH],
+                down: &frame[(v + 1) * WIDTH..],
+            };
+            outruns_sb(&p, h, bound_right(raw, h.end), rows, &Walks::new())
+        };
+        // A shadow: the hole ends with its occluder (and a few rows after, below it: the
+        // shadow of its lower face).
+        assert!(!outruns(100..260, 100..260));
+        assert!(!outruns(100..276, 100..260));
+        // The same hole from the frame's top, or down to its bottom, past the occluder's ends:
+        // something else the occluder happens to bound.
+        assert!(outruns(0..260, 100..260));
+        assert!(outruns(100..400, 100..260));
+        // Past the occluder's bottom for fewer rows than a lower face's shadow may run on.
+        assert!(!outruns(100..280, 100..260));
+        // A hole that widens past the occluder's end over where it stood is another region.
+        let mut frame = hole_beside(&c, 100..400, 100..260);
+        for row in frame.chunks_exact_mut(WIDTH).skip(260) {
+            row[300..360].fill(NO_DEPTH);
+        }
+        let raw = &frame[200 * WIDTH..201 * WIDTH];
+        let rows = Rows {
+            up: &frame[..200 * WIDTH],
+            down: &frame[201 * WIDTH..],
+        };
+        let h = Run {
+            start: 300,
+            end: 330,
+        };
+        assert!(!outruns_sb(
+            &p,
+            h,
+            bound_right(raw, 330),
+            rows,
+            &Walks::new()
+        ));
     }
 
     #[test]
