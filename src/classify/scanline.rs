@@ -1295,7 +1295,7 @@ fn hidden_background(
         return;
     };
     // Nor is a background that fits proof: the hole may be a dropout in one curved surface, or
-    // run on past Sb's top (read last: they walk columns).
+    // run on past Sb's top or bottom (read last: they walk columns).
     if bridged(p, h, (sa, sb), above, rows, walks) || outruns_sb(p, h, sb, rows, walks) {
         return;
     }
@@ -3165,7 +3165,7 @@ mod tests {
     #[test]
     fn a_hole_running_on_past_its_occluders_end_outruns_it_and_a_shadow_does_not() {
         // The hole in row 200, between the box and the occluder, as the hidden background reads
-        // it. The occluder spans rows 100..260 (or 100..300).
+        // it; the occluder spans rows 100..260.
         let (c, p) = params();
         let outruns = |hole_rows: std::ops::Range<usize>, sb_rows: std::ops::Range<usize>| {
             let frame = hole_beside(&c, hole_rows, sb_rows);
