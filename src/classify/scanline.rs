@@ -966,7 +966,7 @@ fn classify_bounded(
         above,
         prev_labels,
         rows,
-        walks,
+        ..
     } = context;
     let near = rows.near(raw.len());
     // A depthless occluder the hole before this one paired with (its detached shadow) may fill
@@ -1012,17 +1012,7 @@ fn classify_bounded(
             return;
         }
         if labels[h.start] == OTHER {
-            hidden_background(
-                p,
-                raw,
-                h,
-                sa,
-                sb,
-                (above, range, walks),
-                rows,
-                labels,
-                filled,
-            );
+            hidden_background(p, raw, h, (sa, sb), context, labels, filled);
         } else if let Some(bg) = behind_thin_sa(p, raw, h, sa, sb, w, above) {
             place(filled, raw, h, bg);
         }
@@ -1068,17 +1058,7 @@ fn classify_bounded(
                 label_attached(p, raw, h, w, rows, labels);
             }
             if labels[h.start] == OTHER {
-                hidden_background(
-                    p,
-                    raw,
-                    h,
-                    sa,
-                    sb,
-                    (above, range, walks),
-                    rows,
-                    labels,
-                    filled,
-                );
+                hidden_background(p, raw, h, (sa, sb), context, labels, filled);
             }
         }
         Detached::Measured => set(labels, raw, h.start, h.end, DETACHED),
@@ -1220,18 +1200,22 @@ fn split_at_island(
 /// on that background, its left part hidden by Sa (eq. 3 with the background's disparity; the
 /// visible part is at most as wide). The background is the farthest of the last valid pixels
 /// above the hole's columns, and must lie behind Sa.
-#[allow(clippy::too_many_arguments)]
 fn hidden_background(
     p: &ScanParams,
     raw: &[u16],
     h: Run,
-    sa: Bound,
-    sb: Bound,
-    (above, range, walks): (&[u16], Range, &Walks),
-    rows: Rows,
+    (sa, sb): (Bound, Bound),
+    context: Context,
     labels: &mut [u8],
     filled: &mut [u16],
 ) {
+    let Context {
+        range,
+        above,
+        rows,
+        walks,
+        ..
+    } = context;
     // Sa must be a surface of its own, off Sb's (a dropout inside one surface is not a shadow:
     // most holes of a real frame stop here).
     if (p.disp(sa.near) - p.disp(sb.near)).abs() < p.min_step {
