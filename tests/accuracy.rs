@@ -4517,15 +4517,8 @@ fn glossy_box_dropout_before_its_own_other_colour_is_no_shadow() {
     // occluder would stand 29 px of disparity before the box, and an attached shadow's occluder
     // is at least as wide as its shift: the IR camera, seeing the wall from x = 0.08 m on,
     // would have seen 29 px of it, not 17.
-    let calib = Calibration::nyu_default();
-    let scene = glossy_box_in_two_colours(0.08);
-    let (holes, attached) = dropouts_called_attached(&scene, &calib, 80..82, 0.08);
-    assert!(holes >= 2 * 280 * 40, "{holes} dropout pixels in the scene");
     // 0 of 25 761 measured; 23 521 without the test of the occluder's width.
-    assert!(
-        attached * 50 <= holes,
-        "{attached} of {holes} dropout pixels called attached"
-    );
+    glossy_box_dropouts_are_no_shadow(0.08, 80..82, 40);
 }
 
 #[test]
@@ -4580,15 +4573,8 @@ fn glossy_box_dropout_with_no_strip_past_its_other_colour_is_no_shadow() {
     // show the RGB camera a strip of wall past its right edge, its shift over the wall's a third
     // wide (f_rgb·0.025·(1/0.55 − 1/3) ≈ 21 px, at the depth that shift gives); the RGB camera
     // sees green over the first half of it, up to where the box's own depth puts the edge.
-    let calib = Calibration::nyu_default();
-    let scene = glossy_box_in_two_colours(0.13);
-    let (holes, attached) = dropouts_called_attached(&scene, &calib, 84..86, 0.13);
-    assert!(holes >= 2 * 280 * 70, "{holes} dropout pixels in the scene");
     // 0 of 42 000 measured; 23 520 without the strip's test.
-    assert!(
-        attached * 50 <= holes,
-        "{attached} of {holes} dropout pixels called attached"
-    );
+    glossy_box_dropouts_are_no_shadow(0.13, 84..86, 70);
 }
 
 /// A matte purple box, front face at 1 m from x = −0.15 to 0 m, before the pale wall at 3 m,
@@ -4618,21 +4604,21 @@ fn glossy_box_in_two_colours(green_to: f64) -> Scene {
     scene
 }
 
-/// Over `seeds`, in rows 100 to HEIGHT − 100 of the columns from the optical centre to
-/// `to_x` metres right of it at 1 m (2 px either side): the hole pixels the simulator labels
-/// OTHER, and how many of them the classifier (with RGB) calls attached.
-fn dropouts_called_attached(
-    scene: &Scene,
-    calib: &Calibration,
-    seeds: std::ops::Range<u64>,
-    to_x: f64,
-) -> (usize, usize) {
+/// Asserts that the dropouts of [`glossy_box_in_two_colours`]`(green_to)` are no shadow: through
+/// the Kinect sensor model, one frame per seed, classified with the RGB image, at least
+/// `min_cols` columns of hole pixels the simulator labels OTHER in each of 280 rows per frame
+/// (from 2 px left of the image's centre to the green part's end), and at most one in fifty of
+/// them called attached.
+fn glossy_box_dropouts_are_no_shadow(green_to: f64, seeds: std::ops::Range<u64>, min_cols: usize) {
+    let calib = Calibration::nyu_default();
+    let scene = glossy_box_in_two_colours(green_to);
     let cx = calib.depth.cx;
-    let cols = (cx - 2.0).round() as usize..(cx + calib.depth.fx * to_x + 2.0).round() as usize;
+    let cols = (cx - 2.0).round() as usize..(cx + calib.depth.fx * green_to + 2.0).round() as usize;
     let (mut holes, mut attached) = (0, 0);
+    let frames = (seeds.end - seeds.start) as usize;
     for seed in seeds {
-        let frame = render_frame(scene, calib, &SensorModel::kinect(), seed);
-        let out = classify_rgb(calib, &frame);
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        let out = classify_rgb(&calib, &frame);
         for v in 100..HEIGHT - 100 {
             for i in cols.clone().map(|u| v * WIDTH + u) {
                 if frame.raw[i] == NO_DEPTH && frame.ir_labels[i] == OTHER {
@@ -4642,7 +4628,14 @@ fn dropouts_called_attached(
             }
         }
     }
-    (holes, attached)
+    assert!(
+        holes >= frames * 280 * min_cols,
+        "{holes} dropout pixels in the scene"
+    );
+    assert!(
+        attached * 50 <= holes,
+        "{attached} of {holes} dropout pixels called attached"
+    );
 }
 
 /// `scene` through the Kinect sensor model, one frame per seed, classified from depth alone:
