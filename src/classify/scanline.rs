@@ -1090,7 +1090,15 @@ fn below_unmeasured(
     labels: &mut [u8],
 ) {
     let a = h.start - 1;
-    if up.is_empty() || up[a] == NO_DEPTH || labels[h.start] != ATTACHED {
+    // Sa's surface above must bound the hole there too: a pixel of it alone is an island inside
+    // a hole of the row above that starts further left (a box's grazing top edge over the
+    // shadow), which says nothing of what lies under it.
+    if up.is_empty()
+        || up[a] == NO_DEPTH
+        || a == 0
+        || up[a - 1] == NO_DEPTH
+        || labels[h.start] != ATTACHED
+    {
         return;
     }
     let lit_above = above
@@ -4455,6 +4463,51 @@ mod tests {
         classify_frame(&p, &lower, &mut labels, &mut filled);
         let hole = &labels[250 * WIDTH + 461..250 * WIDTH + 480];
         assert!(hole[..10].iter().all(|&l| l == ATTACHED), "{hole:?}");
+    }
+
+    #[test]
+    fn shadow_under_a_grazing_top_edge_is_no_unmeasured_region_running_down() {
+        // A wall at 3 m; a box at 1.5 m fills columns [100, 230) from row 200 down; a post at
+        // 1 m, [230, 290), stands before both from row 100. By hand (eq. 3) its shadow is
+        // f·b·(1/1 − 1/3) px wide on the wall and f·b·(1/1 − 1/1.5) px on the box. Row 199 is the
+        // box's top face seen edge-on, a hole from column 100 to the post, in which one pixel of
+        // the box shows, just left of where the shadow on the box starts: that row is OTHER (no
+        // reading explains a hole that wide). The rows under it hold the post's shadow on the
+        // box. Before, the pixel above Sa made the edge's hole read as one that starts after Sa,
+        // and every row under it inherited OTHER down to the frame's bottom.
+        let (c, p) = params();
+        let (wall, boxed, post) = (raw_at(&c, 3.0), raw_at(&c, 1.5), raw_at(&c, 1.0));
+        let on_wall = (c.fb() * (1.0 - 1.0 / 3.0)).round() as usize;
+        let on_box = (c.fb() * (1.0 - 1.0 / 1.5)).round() as usize;
+        let mut raw = vec![wall; PIXELS];
+        for v in 100..HEIGHT {
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            if v >= 200 {
+                row[100..230].fill(boxed);
+            }
+            let shadow = if v >= 200 { on_box } else { on_wall };
+            row[230 - shadow..230].fill(NO_DEPTH);
+            row[230..290].fill(post);
+        }
+        let edge = &mut raw[199 * WIDTH..200 * WIDTH];
+        edge[100..230].fill(NO_DEPTH);
+        edge[230 - on_box - 1] = boxed;
+        assert_eq!((on_wall, on_box), (29, 15));
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        assert_run(
+            &labels[199 * WIDTH..200 * WIDTH],
+            100..230 - on_box - 1,
+            OTHER,
+        );
+        for v in [150, 200, 201, 300, 479] {
+            let shadow = if v >= 200 { on_box } else { on_wall };
+            assert_run(
+                &labels[v * WIDTH..(v + 1) * WIDTH],
+                230 - shadow..230,
+                ATTACHED,
+            );
+        }
     }
 
     #[test]
