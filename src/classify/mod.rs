@@ -25,7 +25,9 @@ pub struct Params {
     pub attached_over_px: f64,
     /// Tolerance (pixels) on each of the two detached-shadow equations (4)–(5).
     pub detached_tol_px: f64,
-    /// Valid runs this short between two holes are treated as noise inside one hole.
+    /// Valid runs this short between two holes are treated as noise inside one hole. One pixel:
+    /// a spurious return inside a shadow is a lone pixel; two are more often lit background
+    /// between two holes (a shadow beside a black poster), which the bound of each must see.
     pub max_island_px: usize,
 }
 
@@ -35,7 +37,7 @@ impl Default for Params {
             min_step_px: 1.0,
             attached_over_px: 8.0,
             detached_tol_px: 4.0,
-            max_island_px: 2,
+            max_island_px: 1,
         }
     }
 }

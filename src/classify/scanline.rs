@@ -5108,6 +5108,34 @@ mod tests {
     }
 
     #[test]
+    fn shadow_two_lit_pixels_past_a_black_poster_is_read_on_its_own() {
+        // A wall at 3 m, a box at 2 m over [100, 300) in rows 100..380: by hand (eq. 3) its
+        // attached shadow is f·b·(1/2 − 1/3) px wide, left of column 100. A black poster on the
+        // wall (no depth) ends two pixels of lit wall before the shadow: from the left border,
+        // or from column 40. Read as one hole with the poster over those two pixels, the whole
+        // was too wide for the box's shadow (or a border hole) and all of it OTHER.
+        let (c, p) = params();
+        let w = (c.fb() * (1.0 / 2.0 - 1.0 / 3.0)).round() as usize;
+        assert_eq!(w, 7);
+        for poster_from in [0, 40] {
+            let mut raw = vec![raw_at(&c, 3.0); PIXELS];
+            for v in 100..380 {
+                let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+                row[poster_from..100 - w - 2].fill(NO_DEPTH);
+                row[100 - w..100].fill(NO_DEPTH);
+                row[100..300].fill(raw_at(&c, 2.0));
+            }
+            let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+            classify_frame(&p, &raw, &mut labels, &mut filled);
+            for v in [100, 240, 379] {
+                let row = &labels[v * WIDTH..(v + 1) * WIDTH];
+                assert_run(row, 100 - w..100, ATTACHED);
+                assert_run(row, poster_from..100 - w - 2, OTHER);
+            }
+        }
+    }
+
+    #[test]
     fn noise_island_inside_shadow_does_not_split_it() {
         let (mut row, start, edge) = box_row(2);
         row[start + 10] = row[0]; // one spurious wall pixel inside the shadow
