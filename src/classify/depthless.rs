@@ -190,7 +190,7 @@ pub struct ColourSplit {
     den: f64,
     /// Inverse depth per raw unit (`iz = (den − raw)·iz_per_raw`).
     iz_per_raw: f64,
-    /// Largest disparity of a surface the sensor can measure (about 0.4 m).
+    /// Largest disparity of a surface the sensor can measure (at [`super::NEAREST_M`]).
     max_disp: f64,
     /// `R · K_depth⁻¹ · (0, v, 1)` per row, `R · K_depth⁻¹ · (1, 0, 0)`, and `t`: the ray of a
     /// pixel in the RGB camera's frame is `row_ray[v] + u·col_step + t·iz`.
@@ -300,7 +300,7 @@ impl ColourSplit {
             k: calib.px_per_raw(),
             den: calib.raw.denominator,
             iz_per_raw: 1.0 / calib.raw.numerator,
-            max_disp: calib.fb() / 0.4,
+            max_disp: calib.fb() / super::NEAREST_M,
             row_ray: (0..HEIGHT)
                 .map(|v| rot(-d.cx / d.fx, (v as f64 - d.cy) / d.fy, 1.0))
                 .collect(),

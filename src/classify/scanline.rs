@@ -33,7 +33,7 @@ pub struct ScanParams {
     over: f32,
     tol: f32,
     max_island: usize,
-    /// Largest disparity (px) of a surface the sensor can measure (at about 0.4 m).
+    /// Largest disparity (px) of a surface the sensor can measure (at [`super::NEAREST_M`]).
     max_disp: f32,
     /// Raw value assumed for holes with no valid neighbour at all (a surface at 2.5 m).
     fallback_raw: u16,
@@ -67,7 +67,7 @@ impl ScanParams {
             over: p.attached_over_px as f32,
             tol: p.detached_tol_px as f32,
             max_island: p.max_island_px,
-            max_disp: (calib.fb() / 0.4) as f32,
+            max_disp: (calib.fb() / super::NEAREST_M) as f32,
             fallback_raw: fallback,
             simd: Simd::detect(),
             edge_raw: (p.min_step_px / calib.px_per_raw()).ceil().max(2.0) as u16,
@@ -3546,10 +3546,28 @@ mod tests {
         let row = wall_with_holes(&c, &[(270, 290), (300, 308)]);
         let (labels, _) = run_with_neighbours(&row, &row, &row);
         assert!(labels[270..308].iter().all(|&l| l != DETACHED));
-        // Nor a shift beyond the sensor's range: an occluder nearer than ~0.4 m.
+        // Nor a shift beyond the sensor's range: an occluder nearer than 0.5 m.
         let row = wall_with_holes(&c, &[(200, 208), (300, 308)]);
         let (labels, _) = run_with_neighbours(&row, &row, &row);
         assert!(labels[200..308].iter().all(|&l| l != DETACHED));
+    }
+
+    #[test]
+    fn depthless_pair_places_no_occluder_nearer_than_the_sensors_range() {
+        // A black rod 8 px wide before a wall at 3 m, its shadow the same 8 px (plus 2 px of
+        // widening) shifted left by w = f·b·(1/z − 1/3) (eq. 4–5 for an occluder without
+        // depth). At 0.55 m (w = 65 px) the pair is the rod and its detached shadow; at 0.45 m
+        // (w = 83 px) the rod would stand nearer than the Kinect measures anything (0.5 m): two
+        // holes that far apart are no such pair.
+        let (c, _) = params();
+        for (z, paired) in [(0.55, true), (0.45, false)] {
+            let w = (c.fb() * (1.0 / z - 1.0 / 3.0)).round() as usize;
+            let shadow = (400 - w - 2, 400 - w + 8);
+            let row = wall_with_holes(&c, &[shadow, (400, 408)]);
+            let (labels, _) = run_with_neighbours(&row, &row, &row);
+            let detached = labels[shadow.0..shadow.1].iter().all(|&l| l == DETACHED);
+            assert_eq!(detached, paired, "rod at {z} m, shift {w} px");
+        }
     }
 
     #[test]
