@@ -34,7 +34,8 @@ const RECEDE_SPAN: usize = 6;
 pub struct Reach {
     /// `fx_rgb · |t_x|`: pixels of alignment shift per unit of inverse depth (per metre).
     pub px_m: f32,
-    /// The inverse of the nearest depth a Kinect measures, 0.5 m (per metre).
+    /// The inverse of the nearest depth a Kinect measures, [`NEAREST_M`](super::NEAREST_M)
+    /// (per metre).
     pub inv_near: f32,
 }
 
