@@ -143,9 +143,9 @@ const PALETTE_MATCH: u32 = 3;
 /// +0.012 summed over 51 suites (one: +0.012 more, but a black rod before bands of two hues came
 /// out wide again, its any-shadow precision 0.964 → 0.942).
 const PLAIN_FIRST: usize = 2;
-/// Valid runs this short inside a hole are noise, stepped over: a lone pixel, as in the
-/// scanline ([`Params::max_island_px`](super::Params)); two are more often lit background
-/// between two holes. (At 2, the fifth simulator's 28 suites: complex IR attached F1 −0.022
+/// Valid runs this short inside a hole are noise, stepped over: a lone pixel, as the scanline's
+/// default ([`Params::max_island_px`](super::Params)) reads them; two are more often lit
+/// background between two holes. (At 2, the fifth simulator's 28 suites: complex IR attached F1 −0.022
 /// summed, detached −0.031, any-shadow precision −0.023, recall −0.014; this project's suites
 /// within ±0.003.)
 const MAX_ISLAND: usize = 1;
