@@ -158,7 +158,6 @@ impl Warp {
             fov_start: vec![0; HEIGHT],
             reach: super::unseen::Reach {
                 px_m: (calib.rgb.fx * t.x.abs()) as f32,
-                inv_near: (1.0 / super::NEAREST_M) as f32,
             },
         }
     }

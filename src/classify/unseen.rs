@@ -34,15 +34,14 @@ const RECEDE_SPAN: usize = 6;
 pub struct Reach {
     /// `fx_rgb · |t_x|`: pixels of alignment shift per unit of inverse depth (per metre).
     pub px_m: f32,
-    /// The inverse of the nearest depth a Kinect measures, [`NEAREST_M`](super::NEAREST_M)
-    /// (per metre).
-    pub inv_near: f32,
 }
 
 impl Reach {
-    /// Widest alignment shadow of an occluder before a background `mm` millimetres away (px).
+    /// Widest alignment shadow of an occluder before a background `mm` millimetres away (px): the
+    /// occluder no nearer than [`NEAREST_M`](super::NEAREST_M).
     fn widest(&self, mm: u16) -> usize {
-        let w = self.px_m * (self.inv_near - 1000.0 / f32::from(mm.max(1)));
+        let inv_near = (1.0 / super::NEAREST_M) as f32;
+        let w = self.px_m * (inv_near - 1000.0 / f32::from(mm.max(1)));
         w.max(0.0) as usize + 1
     }
 }
@@ -133,7 +132,6 @@ mod tests {
     fn reach() -> Reach {
         Reach {
             px_m: 518.86 * 0.025,
-            inv_near: 2.0,
         }
     }
 
