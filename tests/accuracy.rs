@@ -657,6 +657,29 @@ fn black_box_at_the_left_border_before_a_wall_beyond_range_casts_no_shadow_there
     }
 }
 
+/// A pale box 20 cm deep, its face at `z` m spanning x = `left..right` and `half_height` m up
+/// and down, before a dark wall at 5.5 m, beyond the sensor's range.
+fn pale_box_before_a_region_beyond_range(
+    (left, right): (f64, f64),
+    z: f64,
+    half_height: f64,
+) -> Scene {
+    let mut scene = Scene::new("pale box before a dark region beyond range");
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(5.5),
+        umbra::synth::Material::matte([0.06, 0.06, 0.08]),
+    );
+    push_box(
+        &mut scene,
+        "box",
+        [0.5 * (left + right), 0.0, z + 0.1],
+        [0.5 * (right - left), half_height, 0.1],
+        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
+    );
+    scene
+}
+
 #[test]
 fn hole_between_a_far_box_and_a_near_rod_places_no_occluder_over_the_box() {
     // A pale box at 3 m, its right edge at column 180, a dark wall beyond the range (5.5 m) right
@@ -670,20 +693,8 @@ fn hole_between_a_far_box_and_a_near_rod_places_no_occluder_over_the_box() {
     // the RGB camera sees.
     let calib = Calibration::nyu_default();
     let (fx, cx) = (calib.depth.fx, calib.depth.cx);
-    let mut scene = Scene::new("far box, region beyond range, near rod");
-    scene.push(
-        "wall",
-        umbra::synth::scene::wall(5.5),
-        umbra::synth::Material::matte([0.06, 0.06, 0.08]),
-    );
     let right = (180.0 - cx) / fx * 3.0;
-    push_box(
-        &mut scene,
-        "box",
-        [0.5 * (right - 3.0), 0.0, 3.1],
-        [0.5 * (right + 3.0), 0.6, 0.1],
-        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
-    );
+    let mut scene = pale_box_before_a_region_beyond_range((-3.0, right), 3.0, 0.6);
     push_grey_rod(&mut scene, (300.0 - cx) / fx * 0.7, 0.7, 0.015);
     for seed in 20..22 {
         let mut frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
@@ -721,20 +732,8 @@ fn strip_of_a_box_swallowed_by_the_widening_before_a_dark_region_beyond_range_is
     // left of it, and the strip is the box's own edge: no shadow (SPEC §1), OTHER.
     let calib = Calibration::nyu_default();
     let (fx, cx) = (calib.depth.fx, calib.depth.cx);
-    let mut scene = Scene::new("pale box before a dark region beyond range");
-    scene.push(
-        "wall",
-        umbra::synth::scene::wall(5.5),
-        umbra::synth::Material::matte([0.06, 0.06, 0.08]),
-    );
     let (left, right) = ((250.0 - cx) / fx * 1.5, (350.0 - cx) / fx * 1.5);
-    push_box(
-        &mut scene,
-        "box",
-        [0.5 * (left + right), 0.0, 1.6],
-        [0.5 * (right - left), 0.4, 0.1],
-        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
-    );
+    let scene = pale_box_before_a_region_beyond_range((left, right), 1.5, 0.4);
     for seed in 40..42 {
         let mut frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
         let mut strip = Vec::new();
