@@ -199,7 +199,7 @@ const EDGE_NEAR: usize = 6;
 /// blur carries the occluder's colour a little past its edge. Summed over 32 fifth-simulator
 /// suites, RGB alignment F1 at 0.5 / 0.7 / 1.0: complex +0.098 / +0.141 / +0.037, simple
 /// +0.090 / +0.107 / +0.078 (at 1.0 genuine occluders' strips fall short of two columns); this
-/// project's suites −0.002 to 0.000, where only shadows widen.
+/// project's suites −0.003 to 0.000, where only shadows widen.
 const EDGE_WIDENING: f64 = 0.7;
 
 /// Per-calibration constants for the colour split.
