@@ -4526,6 +4526,29 @@ fn dark_box_side_face_in_shade_is_no_shadow_through_its_noisy_columns() {
     );
 }
 
+#[test]
+fn bluish_box_side_face_whose_hue_lies_near_the_walls_is_no_shadow() {
+    // A blue-grey box before the pale wall: its front and the wall, as the camera sees them, lie
+    // 111 to 114 thousandths apart in chromaticity. The face in shade is far darker than the
+    // front, so only its hue tells it from the wall, and the hue was trusted only from 120 apart
+    // (none of the face OTHER before, in both frames).
+    for seed in 40..42 {
+        let (face, shadow) = grazing_side_face(
+            [0.35, 0.45, 0.65],
+            SensorModel::kinect().rgb_noise_sigma,
+            seed,
+        );
+        assert!(
+            face >= 0.9,
+            "seed {seed}: {face:.3} of the face's pixels OTHER"
+        );
+        assert!(
+            shadow >= 0.98,
+            "seed {seed}: {shadow:.3} of the shadow's pixels attached"
+        );
+    }
+}
+
 /// A box of `colour`, x = 0.1..0.3 m, z = 0.9..1.1 m, before a pale wall at 3 m, with the noisy
 /// Kinect model (noise `seed`): the shares of its grazing side face's pixels called OTHER and of
 /// its attached shadow's middle called attached, in 80 rows about the box's middle.
