@@ -723,6 +723,59 @@ fn hole_between_a_far_box_and_a_near_rod_places_no_occluder_over_the_box() {
 }
 
 #[test]
+fn box_edge_the_widening_took_beside_a_region_beyond_range_is_no_alignment_shadow() {
+    // A pale box at 2 m, columns 250 to 350, before a dark wall beyond the range; right of it a
+    // grey panel at 3 m with a grey rod at 1.2 m before it, whose shadow shows the frame's
+    // widening. Every hole widened by 2 px on each end: the region beyond range left of the box
+    // ends two columns into the box, which the RGB camera sees there, past a sharp edge from the
+    // dark region: the layout of a black occluder's alignment strip. But no depth lies behind the
+    // box (no alignment shadow, SPEC §1): those columns are the box, unmeasured.
+    let calib = Calibration::nyu_default();
+    let (fx, cx) = (calib.depth.fx, calib.depth.cx);
+    let at = |u: f64, z: f64| (u - cx) / fx * z;
+    let box_cols = (at(250.0, 2.0), at(350.0, 2.0));
+    let mut scene = pale_box_before_a_region_beyond_range(box_cols, 2.0, 0.5);
+    let (l, r) = (at(450.0, 3.0), at(700.0, 3.0));
+    push_box(
+        &mut scene,
+        "panel",
+        [0.5 * (l + r), 0.0, 3.05],
+        [0.5 * (r - l), 2.0, 0.05],
+        umbra::synth::Material::matte([0.5, 0.5, 0.55]),
+    );
+    push_grey_rod(&mut scene, at(560.0, 1.2), 1.2, 0.03);
+    for seed in 50..52 {
+        let mut frame = render_frame(&scene, &calib, &SensorModel::ideal(), seed);
+        widen_every_hole(&mut frame, 2, 2);
+        let out = classify_rgb(&calib, &frame);
+        // Around the box's left edge in the RGB view, as the simulator sees it, in its rows.
+        let (mut rows, mut strip) = (0, 0);
+        for v in 0..HEIGHT {
+            let row = &frame.rgb_labels[v * WIDTH..(v + 1) * WIDTH];
+            let Some(edge) = (150..400).find(|&u| row[u] == VALID) else {
+                continue;
+            };
+            assert!(
+                row[edge - 15..edge].iter().all(|&l| l == OTHER),
+                "row {v}: the truth has no shadow left of the box"
+            );
+            rows += 1;
+            let span = v * WIDTH + edge - 15..v * WIDTH + edge + 5;
+            strip += out.rgb_labels[span]
+                .iter()
+                .filter(|&&l| l == ALIGNMENT)
+                .count();
+        }
+        // Measured: none (before, 2 px in every row: 520).
+        assert!(rows > 200, "seed {seed}: {rows} rows of the box");
+        assert!(
+            strip <= rows / 20,
+            "seed {seed}: {strip} px of alignment along {rows} rows of the box's edge"
+        );
+    }
+}
+
+#[test]
 fn strip_of_a_box_swallowed_by_the_widening_before_a_dark_region_beyond_range_is_no_shadow() {
     // A pale box at 1.5 m, columns 250 to 350, before a dark wall at 5.5 m (beyond the 4.5 m
     // range): right of the box the hole runs to the right border. A sensor whose correlation

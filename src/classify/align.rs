@@ -102,6 +102,9 @@ pub struct Warp {
     /// The colour steps' factor for the frame's camera noise, in 64ths
     /// ([`step_scale`](super::noise::step_scale)).
     noise_scale: u32,
+    /// Pixels the sensor's widening adds to a hole's end in the current frame
+    /// ([`FrameFacts::left_widening`](super::scanline::FrameFacts::left_widening)).
+    widening: f64,
     /// Per RGB row, the first column any IR pixel landed in: the IR view's left edge there.
     fov_start: Vec<u16>,
     /// How wide [`super::unseen`] looks for alignment shadows.
@@ -155,6 +158,7 @@ impl Warp {
             edge_list: Vec::with_capacity(WIDTH),
             parity: (0..WIDTH).map(|u| ((u & 1) as u32) << LABEL_BITS).collect(),
             noise_scale: 64,
+            widening: 0.0,
             fov_start: vec![0; HEIGHT],
             reach: super::unseen::Reach {
                 px_m: (calib.rgb.fx * t.x.abs()) as f32,
@@ -166,6 +170,12 @@ impl Warp {
     /// them ([`step_scale`](super::noise::step_scale)); 64 until set.
     pub fn set_noise_scale(&mut self, scale: u32) {
         self.noise_scale = scale;
+    }
+
+    /// Sets how many pixels the sensor's widening adds to a hole's end in the frames to come
+    /// ([`FrameFacts::left_widening`](super::scanline::FrameFacts::left_widening)); 0 until set.
+    pub fn set_widening(&mut self, px: f64) {
+        self.widening = px;
     }
 
     /// `step` for a far surface of colour `bg` ([`dimmed`]) and the frame's camera noise.
@@ -308,8 +318,9 @@ impl Warp {
         }
         self.zbuf[PIXELS - WIDTH..].fill(EMPTY);
         if let Some(colour) = colour {
-            let (fov, reach, scale) = (&self.fov_start, self.reach, self.noise_scale);
-            super::unseen::open_gaps(rgb, mm, colour, fov, reach, scale);
+            let (fov, reach) = (&self.fov_start, self.reach);
+            let (scale, widening) = (self.noise_scale, self.widening);
+            super::unseen::open_gaps(rgb, mm, colour, fov, reach, scale, widening);
         }
     }
 
