@@ -483,6 +483,12 @@ impl Warp {
                 };
             }
         }
+        // And its first and last rows: a target row whose centre lies above the first row's
+        // footprint (below the last's) shows what the IR camera does not see; the next row in,
+        // which the footprint reaches, shows that pixel.
+        if v == 0 || v == HEIGHT - 1 {
+            self.end_footprints_at_row(v, filled);
+        }
         // The colour reads at this row's depth edges come after the scatter; the RGB image is
         // seldom in cache, so its lines are fetched now, while the scatter runs.
         #[cfg(target_arch = "x86_64")]
@@ -519,6 +525,30 @@ impl Warp {
         }
         edges.clear();
         self.edge_list = edges;
+    }
+
+    /// Moves the targets of the IR image's first (`v` = 0) or last row one row inwards where
+    /// their nearest target row's centre lies outside the pixel's footprint, beyond the IR
+    /// image's edge (SPEC §1: RGB pixels outside the IR camera's field of view are OTHER).
+    fn end_footprints_at_row(&mut self, v: usize, filled: &[u16]) {
+        for (u, &raw) in filled.iter().enumerate().take(WIDTH) {
+            let t = self.target[u];
+            if t == OUTSIDE || self.keys[u] == EMPTY {
+                continue;
+            }
+            let y = self.target_y(v, u, raw);
+            let off = y - round_f32(y);
+            let line = t as usize / WIDTH;
+            if v == 0 && off > self.half_py {
+                self.target[u] = if line + 1 < HEIGHT {
+                    t + WIDTH as u32
+                } else {
+                    OUTSIDE
+                };
+            } else if v == HEIGHT - 1 && off < -self.half_py {
+                self.target[u] = if line > 0 { t - WIDTH as u32 } else { OUTSIDE };
+            }
+        }
     }
 
     /// Forgets the two edges around a single pixel farther than both its neighbours. That is far
@@ -819,6 +849,17 @@ impl Warp {
 
     /// Target column (unrounded) of source pixel (`u`, `v`) with raw value `raw`; the scalar twin
     /// of the projection in [`Warp::project_row`], for the rare pixels at depth edges.
+    /// Target row (unrounded) of source pixel (`u`, `v`) with raw value `raw`: [`Warp::target_x`]'s
+    /// twin, for the IR image's first and last rows.
+    fn target_y(&self, v: usize, u: usize, raw: u16) -> f32 {
+        let iz = f32::from(raw) * self.iz_scale + self.iz_offset;
+        let uf = u as f32;
+        let [_, by, bz] = self.row_ray[v];
+        let [_, sy, sz] = self.col_step;
+        let nz = bz + uf * sz + self.t[2] * iz;
+        self.rgb_f[1] * (by + uf * sy + self.t[1] * iz) / nz + self.rgb_c[1]
+    }
+
     fn target_x(&self, v: usize, u: usize, raw: u16) -> f32 {
         let iz = f32::from(raw) * self.iz_scale + self.iz_offset;
         let uf = u as f32;
@@ -1378,6 +1419,33 @@ mod tests {
             let first = row.iter().position(|&l| l == VALID);
             let last = row.iter().rposition(|&l| l == VALID);
             let want = (left.ceil() as usize, right.floor() as usize);
+            if (first, last) != (Some(want.0), Some(want.1)) {
+                wrong.push(format!("raw {raw}: {first:?}..={last:?}, want {want:?}"));
+            }
+        }
+        assert!(wrong.is_empty(), "{wrong:?}");
+    }
+
+    #[test]
+    fn the_ir_field_of_view_ends_where_the_first_and_last_rows_footprints_do() {
+        // The same wall, the RGB camera also 1.2 mm lower and 1.6 mm behind the IR camera (a
+        // calibrated Kinect's offsets), so the IR image's top and bottom edges land at every
+        // sub-pixel height too: the RGB camera sees the wall from ceil(y(−0.5)) to floor(y(479.5)).
+        let mut c = Calibration::nyu_default();
+        c.depth_to_rgb.translation.y = 0.0012;
+        c.depth_to_rgb.translation.z = 0.0016;
+        let mut classifier = Classifier::new(&c);
+        let mut out = Classified::default();
+        let mut wrong = Vec::new();
+        for k in 0..81 {
+            let raw = raw_at(&c, 2.0 + 0.025 * k as f64);
+            classifier.classify(&vec![raw; PIXELS], &mut out);
+            let (x, top) = rgb_xy(&c, 320.0, -0.5, raw);
+            let (_, bottom) = rgb_xy(&c, 320.0, 479.5, raw);
+            let column = |y: usize| out.rgb_labels[y * WIDTH + x.round() as usize];
+            let first = (0..HEIGHT).find(|&y| column(y) == VALID);
+            let last = (0..HEIGHT).rev().find(|&y| column(y) == VALID);
+            let want = (top.ceil() as usize, bottom.floor() as usize);
             if (first, last) != (Some(want.0), Some(want.1)) {
                 wrong.push(format!("raw {raw}: {first:?}..={last:?}, want {want:?}"));
             }
