@@ -4602,6 +4602,30 @@ fn bluish_box_side_face_whose_hue_lies_near_the_walls_is_no_shadow() {
     }
 }
 
+#[test]
+fn box_side_face_in_another_light_is_no_shadow() {
+    // The purple box's face lit by a light of another colour than its front (a tenth less green
+    // in the RGB image). On a face this dark the camera's noise then puts many of its pixels past
+    // the 40 thousandths of chromaticity within which a pixel had the occluder's hue, though they
+    // lie far nearer the front's than the wall's.
+    let mut face = 0.0;
+    for seed in 40..45 {
+        let (f, shadow) = grazing_side_face_tinted(
+            [0.3, 0.1, 0.25],
+            SensorModel::kinect().rgb_noise_sigma,
+            seed,
+            [1.0, 0.9, 1.0],
+        );
+        face += f / 5.0;
+        assert!(
+            shadow >= 0.85,
+            "seed {seed}: {shadow:.3} of the shadow's pixels attached"
+        );
+    }
+    // Measured: 0.936 of the face OTHER over five frames (0.763 before).
+    assert!(face >= 0.9, "{face:.3} of the face's pixels OTHER");
+}
+
 /// A box of `colour`, x = 0.1..0.3 m, z = 0.9..1.1 m, before a pale wall at 3 m, with the noisy
 /// Kinect model (noise `seed`): the shares of its grazing side face's pixels called OTHER and of
 /// its attached shadow's middle called attached, in 80 rows about the box's middle.
@@ -4613,6 +4637,17 @@ fn bluish_box_side_face_whose_hue_lies_near_the_walls_is_no_shadow() {
 /// (3) from the front edge (34 px) fits as a whole: the RGB camera sees the face there, darker
 /// than the front (turned from the light) but of its hue.
 fn grazing_side_face(colour: [f64; 3], rgb_noise: f64, seed: u64) -> (f64, f64) {
+    grazing_side_face_tinted(colour, rgb_noise, seed, [1.0; 3])
+}
+
+/// [`grazing_side_face`], with the face's pixels in the RGB image (the simulator's OTHER there)
+/// scaled by `tint` per channel: a face lit by a light of another colour than the front's.
+fn grazing_side_face_tinted(
+    colour: [f64; 3],
+    rgb_noise: f64,
+    seed: u64,
+    tint: [f64; 3],
+) -> (f64, f64) {
     let calib = Calibration::nyu_default();
     let (fx, cx) = (calib.depth.fx, calib.depth.cx);
     let mut scene = Scene::new("box with a grazing side face");
@@ -4636,6 +4671,17 @@ fn grazing_side_face(colour: [f64; 3], rgb_noise: f64, seed: u64) -> (f64, f64) 
         ..SensorModel::kinect()
     };
     let mut frame = render_frame(&scene, &calib, &sensor, seed);
+    // The face (x = 0.1 m, z = 0.9..1.1 m) in the RGB image, between its far and near edges.
+    let x_rgb = |z: f64| calib.rgb.fx * (0.1 + calib.depth_to_rgb.translation.x) / z + calib.rgb.cx;
+    for v in 150..330 {
+        for u in x_rgb(1.1).ceil() as usize..=x_rgb(0.9).floor() as usize {
+            let i = v * WIDTH + u;
+            for (k, t) in tint.iter().enumerate() {
+                let c = &mut frame.rgb[3 * i + k];
+                *c = (f64::from(*c) * t).round().clamp(0.0, 255.0) as u8;
+            }
+        }
+    }
     // The face's columns, wholly inside it.
     let face_cols = u_back.ceil() as usize + 1..u_front.floor() as usize;
     let (mut face, mut shade) = (Vec::new(), Vec::new());

@@ -28,6 +28,13 @@ const LIT: i32 = 90;
 /// +0.024, recall −0.003, summed over 32 suites of that simulator; complex precision +0.003,
 /// recall −0.002; this project's suites unchanged.
 const HUED: i32 = 2 * SAME_HUE;
+/// Chromaticity difference (thousandths) within which a pixel still has the occluder's hue when
+/// it lies [`HUE_RATIO`] times nearer the occluder's than the wall's: a face turned to a light of
+/// another colour than its front's is tinted (a purple box's face 66 from its front, 400 from the
+/// wall, in a fifth simulator's scene, k5 s018).
+const TINTED_HUE: i32 = 2 * SAME_HUE;
+/// How many times nearer the occluder's chromaticity than the wall's a tinted face's pixel lies.
+const HUE_RATIO: i32 = 3;
 
 /// Whether colour `p` is bright enough for its chromaticity to tell.
 fn lit(p: [i32; 3]) -> bool {
@@ -97,10 +104,12 @@ impl ColourSplit {
         let shows_occluder = |p: [i32; 3]| {
             let (d_occ, d_wall) = (hue_dist(p, occluder), hue_dist(p, wall));
             (d_occ < step && 3 * d_occ <= d_wall && d_occ + step <= d_wall)
-                || (hued
-                    && lit(p)
-                    && chroma_off(p, occluder) <= SAME_HUE
-                    && 2 * chroma_off(p, wall) >= chroma_off(occluder, wall))
+                || (hued && lit(p) && {
+                    let (to_occluder, to_wall) = (chroma_off(p, occluder), chroma_off(p, wall));
+                    (to_occluder <= SAME_HUE
+                        || (to_occluder <= TINTED_HUE && HUE_RATIO * to_occluder <= to_wall))
+                        && 2 * to_wall >= chroma_off(occluder, wall)
+                })
         };
         // A column shows the occluder, and plainly not the wall, at Sb's depth or at the depth
         // of a far edge at `u` whose shadow starts at the hole's first pixel (eq. 3 with the
