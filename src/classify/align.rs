@@ -847,8 +847,6 @@ impl Warp {
             + u8::from(off < -self.half_px) * RIGHT_OF_FOOTPRINT
     }
 
-    /// Target column (unrounded) of source pixel (`u`, `v`) with raw value `raw`; the scalar twin
-    /// of the projection in [`Warp::project_row`], for the rare pixels at depth edges.
     /// Target row (unrounded) of source pixel (`u`, `v`) with raw value `raw`: [`Warp::target_x`]'s
     /// twin, for the IR image's first and last rows.
     fn target_y(&self, v: usize, u: usize, raw: u16) -> f32 {
@@ -860,6 +858,8 @@ impl Warp {
         self.rgb_f[1] * (by + uf * sy + self.t[1] * iz) / nz + self.rgb_c[1]
     }
 
+    /// Target column (unrounded) of source pixel (`u`, `v`) with raw value `raw`; the scalar twin
+    /// of the projection in [`Warp::project_row`], for the rare pixels at depth edges.
     fn target_x(&self, v: usize, u: usize, raw: u16) -> f32 {
         let iz = f32::from(raw) * self.iz_scale + self.iz_offset;
         let uf = u as f32;

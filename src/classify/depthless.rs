@@ -199,7 +199,8 @@ const EDGE_NEAR: usize = 6;
 /// blur carries the occluder's colour a little past its edge. Summed over 32 fifth-simulator
 /// suites, RGB alignment F1 at 0.5 / 0.7 / 1.0: complex +0.098 / +0.141 / +0.037, simple
 /// +0.090 / +0.107 / +0.078 (at 1.0 complex any-shadow recall −0.024 too); this project's
-/// suites −0.003 to 0.000, where only shadows widen.
+/// suites −0.003 to 0.000, where only shadows widen. The RGB view's strips past depthless
+/// occluders end by as much before their hole does ([`super::unseen::open_gaps`]).
 pub(super) const EDGE_WIDENING: f64 = 0.7;
 
 /// Per-calibration constants for the colour split.
