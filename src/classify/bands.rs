@@ -122,7 +122,7 @@ pub(super) fn row_mask(row: &[u8], label: u8) -> [u64; WORDS] {
     words
 }
 
-/// [`mask`]'s word for up to 64 pixels: four SSE2 compares of 16 bytes where x86-64 has them.
+/// [`row_mask`]'s word for up to 64 pixels: four SSE2 compares of 16 bytes where x86-64 has them.
 #[cfg(target_arch = "x86_64")]
 fn word_of(chunk: &[u8], label: u8) -> u64 {
     use std::arch::x86_64::{
