@@ -847,26 +847,24 @@ impl Warp {
             + u8::from(off < -self.half_px) * RIGHT_OF_FOOTPRINT
     }
 
-    /// Target row (unrounded) of source pixel (`u`, `v`) with raw value `raw`: [`Warp::target_x`]'s
-    /// twin, for the IR image's first and last rows.
-    fn target_y(&self, v: usize, u: usize, raw: u16) -> f32 {
-        let iz = f32::from(raw) * self.iz_scale + self.iz_offset;
-        let uf = u as f32;
-        let [_, by, bz] = self.row_ray[v];
-        let [_, sy, sz] = self.col_step;
-        let nz = bz + uf * sz + self.t[2] * iz;
-        self.rgb_f[1] * (by + uf * sy + self.t[1] * iz) / nz + self.rgb_c[1]
-    }
-
     /// Target column (unrounded) of source pixel (`u`, `v`) with raw value `raw`; the scalar twin
     /// of the projection in [`Warp::project_row`], for the rare pixels at depth edges.
     fn target_x(&self, v: usize, u: usize, raw: u16) -> f32 {
+        self.target_along(0, v, u, raw)
+    }
+
+    /// Target row (unrounded) of the same, for the IR image's first and last rows.
+    fn target_y(&self, v: usize, u: usize, raw: u16) -> f32 {
+        self.target_along(1, v, u, raw)
+    }
+
+    /// Target coordinate along `axis` (0: x, 1: y) of source pixel (`u`, `v`) at `raw`.
+    fn target_along(&self, axis: usize, v: usize, u: usize, raw: u16) -> f32 {
         let iz = f32::from(raw) * self.iz_scale + self.iz_offset;
         let uf = u as f32;
-        let [bx, _, bz] = self.row_ray[v];
-        let [sx, _, sz] = self.col_step;
-        let nz = bz + uf * sz + self.t[2] * iz;
-        self.rgb_f[0] * (bx + uf * sx + self.t[0] * iz) / nz + self.rgb_c[0]
+        let (ray, step) = (self.row_ray[v], self.col_step);
+        let nz = ray[2] + uf * step[2] + self.t[2] * iz;
+        self.rgb_f[axis] * (ray[axis] + uf * step[axis] + self.t[axis] * iz) / nz + self.rgb_c[axis]
     }
 }
 
