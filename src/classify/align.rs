@@ -105,8 +105,13 @@ pub struct Warp {
     /// Pixels the sensor's widening adds to a hole's end in the current frame
     /// ([`FrameFacts::left_widening`](super::scanline::FrameFacts::left_widening)).
     widening: f64,
-    /// Per RGB row, the first column any IR pixel landed in: the IR view's left edge there.
+    /// Per RGB row, the IR view's left edge: the first column any IR pixel landed in, or
+    /// [`Self::fov_past_near`]'s where that lies further right.
     fov_start: Vec<u16>,
+    /// Per RGB row, the first column where the far surface past a near object at the IR view's
+    /// left border is in the IR camera's view (0 where there is none): the view's left edge
+    /// for that surface, right of where the near object landed.
+    fov_past_near: Vec<u16>,
     /// How wide [`super::unseen`] looks for alignment shadows.
     reach: super::unseen::Reach,
 }
@@ -160,6 +165,7 @@ impl Warp {
             noise_scale: 64,
             widening: 0.0,
             fov_start: vec![0; HEIGHT],
+            fov_past_near: vec![0; HEIGHT],
             reach: super::unseen::Reach {
                 px_m: (calib.rgb.fx * t.x.abs()) as f32,
             },
@@ -294,6 +300,7 @@ impl Warp {
         mm: &mut [u16],
     ) {
         // The z-buffer is all EMPTY here: allocated so, and reset row by row below.
+        self.fov_past_near.fill(0);
         for v in 0..HEIGHT {
             let row = v * WIDTH..(v + 1) * WIDTH;
             self.project_row(v, &filled[row.clone()], &ir[row.clone()]);
@@ -309,7 +316,8 @@ impl Warp {
             let below = (v + 1 < HEIGHT).then(|| &below[..WIDTH]);
             fill_cracks_row(cur, above.as_deref(), below);
             if colour.is_some() {
-                self.fov_start[v] = cur.iter().position(|&k| k != EMPTY).unwrap_or(WIDTH) as u16;
+                let first = cur.iter().position(|&k| k != EMPTY).unwrap_or(WIDTH) as u16;
+                self.fov_start[v] = first.max(self.fov_past_near[v]);
             }
             unpack_row(cur, &mut rgb[row.clone()], &mut mm[row]);
             if let Some(above) = above.as_mut() {
@@ -653,7 +661,10 @@ impl Warp {
         // left of the IR camera's first column: outside its view, OTHER (SPEC §2), no alignment.
         if u < FOV_REACH {
             let fov = self.target_x(v, 0, filled[u + 1]) - self.half_px;
-            c0 = c0.max(span(fov, fov, WIDTH).0).min(c1);
+            let edge = span(fov, fov, WIDTH).0;
+            c0 = c0.max(edge).min(c1);
+            // The colour reading of strips past depthless occluders stops there too.
+            self.fov_past_near[line] = self.fov_past_near[line].max(edge as u16);
         }
         for i in base + c0..base + c1 {
             if self.zbuf[i] == EMPTY {
@@ -1488,6 +1499,49 @@ mod tests {
         let got: Vec<u8> = row[gap.clone()].to_vec();
         let wanted: Vec<u8> = gap.clone().map(want).collect();
         assert_eq!(got, wanted, "RGB columns {gap:?}: post edge {post_edge:.2}, IR view's edge {fov_edge:.2}, wall {wall_edge:.2}");
+    }
+
+    #[test]
+    fn past_a_near_object_at_the_left_border_the_colour_reading_stays_in_the_ir_view() {
+        // The post of the test above before a pale wall with a dark stripe over RGB columns
+        // 38–39. Right of the stripe the wall's colour runs on to the end of an OTHER run, as
+        // past a black rod. But RGB columns 37–42 show wall outside the IR camera's view (left
+        // of 42.01, where the IR image's left edge lands on the wall): OTHER, not the alignment
+        // shadow of an occluder without depth.
+        let c = Calibration::nyu_default();
+        let (wall, post) = (raw_at(&c, 3.0), raw_at(&c, 1.0));
+        let mut raw = vec![wall; PIXELS];
+        for v in 150..350 {
+            raw[v * WIDTH..v * WIDTH + 3].fill(post);
+        }
+        let mut rgb = [[210u8, 212, 207]; PIXELS];
+        for y in 120..380 {
+            rgb[y * WIDTH..y * WIDTH + 37].fill([120, 60, 200]);
+            rgb[y * WIDTH + 38..y * WIDTH + 40].fill([60, 60, 65]);
+        }
+        let mut out = Classified::default();
+        Classifier::new(&c).classify_with_rgb(&raw, Some(rgb.as_flattened()), &mut out);
+        let (post_edge, y) = rgb_xy(&c, 2.5, 250.0, post);
+        let (fov_edge, _) = rgb_xy(&c, -0.5, 250.0, wall);
+        let (wall_edge, _) = rgb_xy(&c, 2.5, 250.0, wall);
+        assert!(
+            post_edge < 37.0 && fov_edge > 42.0 && fov_edge < 43.0 && wall_edge > 44.0,
+            "{post_edge:.2} {fov_edge:.2} {wall_edge:.2}"
+        );
+        for y in [
+            y.round() as usize - 40,
+            y.round() as usize,
+            y.round() as usize + 40,
+        ] {
+            let row = &out.rgb_labels[y * WIDTH..][..WIDTH];
+            assert_eq!(row[37..43], [OTHER; 6], "RGB row {y}: {:?}", &row[34..48]);
+            assert_eq!(
+                row[43..45],
+                [ALIGNMENT; 2],
+                "RGB row {y}: {:?}",
+                &row[34..48]
+            );
+        }
     }
 
     #[test]
