@@ -44,6 +44,9 @@ const ASTRAY_BIT: u32 = 31;
 const EMPTY: u32 = !((1 << LABEL_BITS) - 1) | OTHER as u32;
 /// Z-buffer value of an alignment-shadow pixel: behind every real surface.
 const GAP: u32 = (0xfffe << (LABEL_BITS + TIE_BITS)) | ALIGNMENT as u32;
+/// Z-buffer value of a pixel that sees a surface outside the IR camera's view past a near object
+/// at its left border: behind every real surface too, and kept by crack filling over [`GAP`].
+const OUT_OF_VIEW: u32 = (0xfffe << (LABEL_BITS + TIE_BITS)) | OTHER as u32;
 // Behind every real key, astray ones too.
 const _: () = assert!(
     GAP > (1 << ASTRAY_BIT) | ((MAX_DEPTH_MM as u32) << (LABEL_BITS + TIE_BITS)) | 0xffff
@@ -662,6 +665,13 @@ impl Warp {
         if u < FOV_REACH {
             let fov = self.target_x(v, 0, filled[u + 1]) - self.half_px;
             let edge = span(fov, fov, WIDTH).0;
+            // Pixels the colour took from the near surface there see the far one outside the
+            // view: crack filling must not join them to the gap.
+            for x in c0..edge.min(c1) {
+                if self.zbuf[base + x] == EMPTY {
+                    self.zbuf[base + x] = OUT_OF_VIEW;
+                }
+            }
             c0 = c0.max(edge).min(c1);
             // The colour reading of strips past depthless occluders stops there too.
             self.fov_past_near[line] = self.fov_past_near[line].max(edge as u16);
@@ -1540,6 +1550,51 @@ mod tests {
                 [ALIGNMENT; 2],
                 "RGB row {y}: {:?}",
                 &row[34..48]
+            );
+        }
+    }
+
+    #[test]
+    fn wall_outside_the_ir_view_in_a_narrow_crack_past_a_near_object_stays_other() {
+        // A post at 1.41 m (raw 843) over IR columns 0..5 before a wall at 4.36 m (raw 1012),
+        // with this project's simulator's calibration (RGB focal length 519 px, the IR one's
+        // 583). Its right edge lands at RGB column 41.60, the IR image's left edge on the wall at
+        // 43.38 and the wall's first lit column's left edge at 47.83. RGB columns 42–43 see wall
+        // outside the IR camera's view (OTHER), 44–47 wall the post hides from it (alignment).
+        // The first two are empty after the warp, as narrow as a crack in a surface: they must
+        // not be filled from the gap beside them.
+        let text = "[depth]\nfx = 582.62\nfy = 582.69\ncx = 313.04\ncy = 238.44\n\
+                    width = 640\nheight = 480\n[rgb]\nfx = 518.86\nfy = 519.47\n\
+                    cx = 325.58\ncy = 253.74\nwidth = 640\nheight = 480\n[depth_to_rgb]\n\
+                    rotation = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]\n\
+                    translation = [-0.025, 0.0, 0.0]\n[raw]\nnumerator = 351.3\n\
+                    denominator = 1092.5\nbaseline_m = 0.075\n";
+        let c = Calibration::from_toml_str(text, std::path::Path::new("test.toml")).unwrap();
+        let (wall, post) = (1012, 843);
+        let mut raw = vec![wall; PIXELS];
+        for v in 100..380 {
+            raw[v * WIDTH..v * WIDTH + 5].fill(post);
+        }
+        let mut out = Classified::default();
+        Classifier::new(&c).classify(&raw, &mut out);
+        let (post_edge, y) = rgb_xy(&c, 4.5, 240.0, post);
+        let (fov_edge, _) = rgb_xy(&c, -0.5, 240.0, wall);
+        let (wall_edge, _) = rgb_xy(&c, 4.5, 240.0, wall);
+        assert!(
+            (41.0..42.0).contains(&post_edge)
+                && (43.0..44.0).contains(&fov_edge)
+                && (47.0..48.0).contains(&wall_edge),
+            "{post_edge:.2} {fov_edge:.2} {wall_edge:.2}"
+        );
+        let y = y.round() as usize;
+        for y in [y - 60, y, y + 60] {
+            let row = &out.rgb_labels[y * WIDTH..][..WIDTH];
+            assert_eq!(row[42..44], [OTHER; 2], "RGB row {y}: {:?}", &row[38..50]);
+            assert_eq!(
+                row[44..48],
+                [ALIGNMENT; 4],
+                "RGB row {y}: {:?}",
+                &row[38..50]
             );
         }
     }
