@@ -49,6 +49,7 @@ mod offimage;
 mod pairs;
 mod patch;
 mod rod_in_shadow;
+mod silhouette;
 mod unlike;
 
 /// Narrowest merged hole considered (pixels): a shadow and an occluder of 5 px each. Narrower
@@ -485,7 +486,9 @@ impl ColourSplit {
                         // Last: a split above may leave a depthless occluder, nearer than Sa,
                         // whose face the RGB camera sees over the shadow at Sa's depth.
                         self.on_a_dark_surface(raw, rgb, labels, v, (a, b));
-                    } else if labels[i] == DETACHED {
+                    } else if labels[i] == DETACHED
+                        && !self.wider_to_the_projector(raw, rgb, labels, v, (a, b))
+                    {
                         self.detached_on_a_dark_surface(raw, rgb, labels, v, (a, b));
                     }
                     // Whatever the readings above left of it: the occluder's own face the

@@ -21,11 +21,11 @@ use crate::labels::{ATTACHED, DETACHED, NO_DEPTH, OTHER, WIDTH};
 /// Brightness (R + G + B) of Sa's side under which the hole is not read: in a dim room
 /// everything is near black (the real NYU frame's floor, whose shadows' sides read 60 to 150).
 /// A pale wall in a room a third as bright reads about 200.
-const LIT_SIDE: i32 = 150;
+pub(super) const LIT_SIDE: i32 = 150;
 /// A pixel is dark when Sa's side is this many times as bright as it...
-const TIMES_DARKER: i32 = 3;
+pub(super) const TIMES_DARKER: i32 = 3;
 /// ...and brighter by this much (the camera's noise on a dim side).
-const MIN_STEP: i32 = 60;
+pub(super) const MIN_STEP: i32 = 60;
 /// Brightness (R + G + B) under which a run that starts at the hole's first pixel counts: the RGB
 /// camera then never sees Sa's surface in the hole, and the shadow may lie on a farther, darker
 /// surface than Sa (a dark wall past a pale box's edge) rather than on a black one.
@@ -37,7 +37,7 @@ const MIN_RUN: usize = 2;
 const LEAD: usize = 4;
 /// Widest hole read (pixels): eq. (3) gives more only for an occluder nearer than the sensor's
 /// range (about 0.35 m before a far wall).
-const WIDEST: usize = 128;
+pub(super) const WIDEST: usize = 128;
 /// Pixels at either end of a detached hole that need not be black (see
 /// [`ColourSplit::detached_on_a_dark_surface`]).
 const EDGE: usize = 4;
@@ -45,7 +45,7 @@ const EDGE: usize = 4;
 /// camera to see that side (f_rgb·b_rgb·(1/0.7 − 1/4) ≈ 15 px at most before a far wall).
 const GUARD: usize = 16;
 /// RGB columns before the occluder's edge at which the hole stops being read (the edge's blend).
-const BEFORE_EDGE: f64 = 1.5;
+pub(super) const BEFORE_EDGE: f64 = 1.5;
 
 impl ColourSplit {
     /// Relabels OTHER the pixels of the attached hole `[a, b)` of row `v` that lie on a black
@@ -213,7 +213,7 @@ impl ColourSplit {
 
     /// The mean brightness (R + G + B) of the probes of IR pixels `px` of row `v` at raw value
     /// `raw`, if all lie inside the RGB image.
-    fn side_brightness(
+    pub(super) fn side_brightness(
         &self,
         rgb: &[u8],
         v: usize,
@@ -232,7 +232,7 @@ impl ColourSplit {
     /// raw value `raw`, from `a` on while the RGB column stays at or left of `to_x` (`None`
     /// outside the image). Over a hole the projection is linear in the column to well under a
     /// pixel: two divisions, not one per pixel.
-    fn brightness_along<'a>(
+    pub(super) fn brightness_along<'a>(
         &'a self,
         rgb: &'a [u8],
         v: usize,
