@@ -7,8 +7,8 @@
 //! holds where the occluder falls short of its shift by about that. Where it falls short by
 //! more, either something else hides the gap (a black surface under it, a region beyond range)
 //! or there is no gap: the projector, 7.5 cm right of the camera, sees the occluder wider than
-//! the camera does (a box's side face, turned away from the camera) and casts one attached
-//! shadow up to it. The RGB camera tells which: it sees the background lit, in the room's light,
+//! the camera does (a deep box's side face, at a wider angle) and casts one attached shadow up
+//! to it. The RGB camera tells which: it sees the background lit, in the room's light,
 //! over the whole hole where there is no gap to hide, and a black surface where one hides it.
 
 use super::dark::{BEFORE_EDGE, LIT_SIDE, MIN_STEP, TIMES_DARKER, WIDEST};
