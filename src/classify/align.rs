@@ -1419,6 +1419,31 @@ mod tests {
         )
     }
 
+    /// A wall at raw `wall` with a post at raw `post` over IR columns `0..cols`, rows 150..350.
+    fn post_at_left_border(wall: u16, post: u16, cols: usize) -> Vec<u16> {
+        let mut raw = vec![wall; PIXELS];
+        for v in 150..350 {
+            raw[v * WIDTH..v * WIDTH + cols].fill(post);
+        }
+        raw
+    }
+
+    /// Where, in the RGB row of IR row 250, [`post_at_left_border`]'s post ends, the IR image's
+    /// left edge lands on the wall, and the wall's first lit column's left edge lands; and that
+    /// row.
+    fn left_border_edges(
+        c: &Calibration,
+        wall: u16,
+        post: u16,
+        cols: usize,
+    ) -> (f64, f64, f64, usize) {
+        let right = cols as f64 - 0.5;
+        let (post_edge, y) = rgb_xy(c, right, 250.0, post);
+        let (fov_edge, _) = rgb_xy(c, -0.5, 250.0, wall);
+        let (wall_edge, _) = rgb_xy(c, right, 250.0, wall);
+        (post_edge, fov_edge, wall_edge, y.round() as usize)
+    }
+
     #[test]
     fn the_ir_field_of_view_ends_where_the_border_pixels_footprints_do() {
         // A flat wall at 81 depths from 2 to 4 m, so the IR image's borders land at every
@@ -1483,20 +1508,15 @@ mod tests {
         // OTHER and 43–44 alignment.
         let c = Calibration::nyu_default();
         let (wall, post) = (raw_at(&c, 3.0), raw_at(&c, 1.0));
-        let mut raw = vec![wall; PIXELS];
-        for v in 150..350 {
-            raw[v * WIDTH..v * WIDTH + 3].fill(post);
-        }
+        let raw = post_at_left_border(wall, post, 3);
         let mut out = Classified::default();
         Classifier::new(&c).classify(&raw, &mut out);
-        let (post_edge, y) = rgb_xy(&c, 2.5, 250.0, post);
-        let (fov_edge, _) = rgb_xy(&c, -0.5, 250.0, wall);
-        let (wall_edge, _) = rgb_xy(&c, 2.5, 250.0, wall);
+        let (post_edge, fov_edge, wall_edge, y) = left_border_edges(&c, wall, post, 3);
         assert!(
             post_edge + 5.0 < fov_edge && fov_edge + 2.0 < wall_edge,
             "{post_edge:.2} {fov_edge:.2} {wall_edge:.2}"
         );
-        let row = &out.rgb_labels[y.round() as usize * WIDTH..][..WIDTH];
+        let row = &out.rgb_labels[y * WIDTH..][..WIDTH];
         let want = |x: usize| {
             let x = x as f64;
             if x > post_edge && x < fov_edge {
@@ -1520,10 +1540,7 @@ mod tests {
         // shadow of an occluder without depth.
         let c = Calibration::nyu_default();
         let (wall, post) = (raw_at(&c, 3.0), raw_at(&c, 1.0));
-        let mut raw = vec![wall; PIXELS];
-        for v in 150..350 {
-            raw[v * WIDTH..v * WIDTH + 3].fill(post);
-        }
+        let raw = post_at_left_border(wall, post, 3);
         let mut rgb = [[210u8, 212, 207]; PIXELS];
         for y in 120..380 {
             rgb[y * WIDTH..y * WIDTH + 37].fill([120, 60, 200]);
@@ -1531,18 +1548,12 @@ mod tests {
         }
         let mut out = Classified::default();
         Classifier::new(&c).classify_with_rgb(&raw, Some(rgb.as_flattened()), &mut out);
-        let (post_edge, y) = rgb_xy(&c, 2.5, 250.0, post);
-        let (fov_edge, _) = rgb_xy(&c, -0.5, 250.0, wall);
-        let (wall_edge, _) = rgb_xy(&c, 2.5, 250.0, wall);
+        let (post_edge, fov_edge, wall_edge, y) = left_border_edges(&c, wall, post, 3);
         assert!(
             post_edge < 37.0 && fov_edge > 42.0 && fov_edge < 43.0 && wall_edge > 44.0,
             "{post_edge:.2} {fov_edge:.2} {wall_edge:.2}"
         );
-        for y in [
-            y.round() as usize - 40,
-            y.round() as usize,
-            y.round() as usize + 40,
-        ] {
+        for y in [y - 40, y, y + 40] {
             let row = &out.rgb_labels[y * WIDTH..][..WIDTH];
             assert_eq!(row[37..43], [OTHER; 6], "RGB row {y}: {:?}", &row[34..48]);
             assert_eq!(
@@ -1556,37 +1567,25 @@ mod tests {
 
     #[test]
     fn wall_outside_the_ir_view_in_a_narrow_crack_past_a_near_object_stays_other() {
-        // A post at 1.41 m (raw 843) over IR columns 0..5 before a wall at 4.36 m (raw 1012),
-        // with this project's simulator's calibration (RGB focal length 519 px, the IR one's
-        // 583). Its right edge lands at RGB column 41.60, the IR image's left edge on the wall at
-        // 43.38 and the wall's first lit column's left edge at 47.83. RGB columns 42–43 see wall
-        // outside the IR camera's view (OTHER), 44–47 wall the post hides from it (alignment).
-        // The first two are empty after the warp, as narrow as a crack in a surface: they must
-        // not be filled from the gap beside them.
-        let text = "[depth]\nfx = 582.62\nfy = 582.69\ncx = 313.04\ncy = 238.44\n\
-                    width = 640\nheight = 480\n[rgb]\nfx = 518.86\nfy = 519.47\n\
-                    cx = 325.58\ncy = 253.74\nwidth = 640\nheight = 480\n[depth_to_rgb]\n\
-                    rotation = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]\n\
-                    translation = [-0.025, 0.0, 0.0]\n[raw]\nnumerator = 351.3\n\
-                    denominator = 1092.5\nbaseline_m = 0.075\n";
-        let c = Calibration::from_toml_str(text, std::path::Path::new("test.toml")).unwrap();
+        // A post at 1.41 m (raw 843) over IR columns 0..5 before a wall at 4.36 m (raw 1012)
+        // (the NYU defaults, as in this project's simulator). Its right edge lands at RGB
+        // column 41.60, the IR image's left edge on the wall at 43.38 and the wall's first lit
+        // column's left edge at 47.83. RGB columns 42–43 see wall outside the IR camera's view
+        // (OTHER), 44–47 wall the post hides from it (alignment). The first two are empty after
+        // the warp, as narrow as a crack in a surface: they must not be filled from the gap
+        // beside them.
+        let c = Calibration::nyu_default();
         let (wall, post) = (1012, 843);
-        let mut raw = vec![wall; PIXELS];
-        for v in 100..380 {
-            raw[v * WIDTH..v * WIDTH + 5].fill(post);
-        }
+        let raw = post_at_left_border(wall, post, 5);
         let mut out = Classified::default();
         Classifier::new(&c).classify(&raw, &mut out);
-        let (post_edge, y) = rgb_xy(&c, 4.5, 240.0, post);
-        let (fov_edge, _) = rgb_xy(&c, -0.5, 240.0, wall);
-        let (wall_edge, _) = rgb_xy(&c, 4.5, 240.0, wall);
+        let (post_edge, fov_edge, wall_edge, y) = left_border_edges(&c, wall, post, 5);
         assert!(
             (41.0..42.0).contains(&post_edge)
                 && (43.0..44.0).contains(&fov_edge)
                 && (47.0..48.0).contains(&wall_edge),
             "{post_edge:.2} {fov_edge:.2} {wall_edge:.2}"
         );
-        let y = y.round() as usize;
         for y in [y - 60, y, y + 60] {
             let row = &out.rgb_labels[y * WIDTH..][..WIDTH];
             assert_eq!(row[42..44], [OTHER; 2], "RGB row {y}: {:?}", &row[38..50]);
