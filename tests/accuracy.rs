@@ -4648,8 +4648,39 @@ fn grazing_side_face_tinted(
     seed: u64,
     tint: [f64; 3],
 ) -> (f64, f64) {
-    let calib = Calibration::nyu_default();
+    let (calib, frame) = grazing_side_face_frame(colour, rgb_noise, seed, tint);
     let (fx, cx) = (calib.depth.fx, calib.depth.cx);
+    let u_back = cx + fx * 0.1 / 1.1;
+    let shadow = (calib.fb() * (1.0 / 1.1 - 1.0 / 3.0)).round() as usize;
+    assert_eq!(shadow, 25);
+    let (mut face, mut shade) = (Vec::new(), Vec::new());
+    for v in 200..280 {
+        face.extend(grazing_face_cols(&calib).map(|u| v * WIDTH + u));
+        // The shadow's middle, clear of both its ends (the sensor's widening, the face's edge).
+        let end = u_back.floor() as usize;
+        shade.extend((end - shadow + 4..end - 3).map(|u| v * WIDTH + u));
+    }
+    let out = classify_rgb(&calib, &frame);
+    let share =
+        |px: &[usize], code| count_labelled(&out.ir_labels, px, code) as f64 / px.len() as f64;
+    (share(&face, OTHER), share(&shade, ATTACHED))
+}
+
+/// The face's columns in the IR view, wholly inside it: cx + fx·0.1/1.1 to cx + fx·0.1/0.9.
+fn grazing_face_cols(calib: &Calibration) -> std::ops::Range<usize> {
+    let (fx, cx) = (calib.depth.fx, calib.depth.cx);
+    (cx + fx * 0.1 / 1.1).ceil() as usize + 1..(cx + fx * 0.1 / 0.9).floor() as usize
+}
+
+/// The frame of [`grazing_side_face_tinted`], with the face's pixels blanked in rows 200..280
+/// of the raw map (no depth at a grazing angle), and its calibration.
+fn grazing_side_face_frame(
+    colour: [f64; 3],
+    rgb_noise: f64,
+    seed: u64,
+    tint: [f64; 3],
+) -> (Calibration, SynthFrame) {
+    let calib = Calibration::nyu_default();
     let mut scene = Scene::new("box with a grazing side face");
     scene.push(
         "wall",
@@ -4663,9 +4694,6 @@ fn grazing_side_face_tinted(
         [0.1, 0.3, 0.1],
         umbra::synth::Material::matte(colour),
     );
-    let (u_back, u_front) = (cx + fx * 0.1 / 1.1, cx + fx * 0.1 / 0.9);
-    let shadow = (calib.fb() * (1.0 / 1.1 - 1.0 / 3.0)).round() as usize;
-    assert_eq!(shadow, 25);
     let sensor = SensorModel {
         rgb_noise_sigma: rgb_noise,
         ..SensorModel::kinect()
@@ -4682,22 +4710,53 @@ fn grazing_side_face_tinted(
             }
         }
     }
-    // The face's columns, wholly inside it.
-    let face_cols = u_back.ceil() as usize + 1..u_front.floor() as usize;
-    let (mut face, mut shade) = (Vec::new(), Vec::new());
-    for v in 200..280 {
-        let row = &mut frame.raw[v * WIDTH..(v + 1) * WIDTH];
-        row[face_cols.clone()].fill(NO_DEPTH);
-        face.extend(face_cols.clone().map(|u| v * WIDTH + u));
-        // The shadow's middle, clear of both its ends (the sensor's widening, the face's edge).
-        let end = u_back.floor() as usize;
-        shade.extend((end - shadow + 4..end - 3).map(|u| v * WIDTH + u));
-    }
+    let face_cols = grazing_face_cols(&calib);
     assert!(face_cols.len() >= 8, "face {face_cols:?}");
+    for v in 200..280 {
+        frame.raw[v * WIDTH..(v + 1) * WIDTH][face_cols.clone()].fill(NO_DEPTH);
+    }
+    (calib, frame)
+}
+
+#[test]
+fn box_side_face_hides_the_wall_behind_it_in_the_rgb_view_too() {
+    // The blue box of `box_side_face_seen_at_a_grazing_angle_is_no_shadow`. The RGB camera sees
+    // the face (OTHER) from where its far edge (1.1 m) lands to where its front edge (0.9 m)
+    // does, x_rgb(z) = f_rgb·(0.1 + t_x)/z + c_x (the NYU defaults move it along x only); left
+    // of that, the shadow's wall at 3 m from IR column u_back − 25 on. Warped at the wall's depth
+    // the face landed under the box, which hid it, and the shadow showed over the face's columns
+    // (none of them OTHER before, all of them now).
+    let (calib, frame) = grazing_side_face_frame(
+        [0.15, 0.35, 0.75],
+        SensorModel::kinect().rgb_noise_sigma,
+        40,
+        [1.0; 3],
+    );
     let out = classify_rgb(&calib, &frame);
+    let (t_x, f_rgb, c_rgb) = (calib.depth_to_rgb.translation.x, calib.rgb.fx, calib.rgb.cx);
+    let x_rgb = |x: f64, z: f64| f_rgb * (x + t_x) / z + c_rgb;
+    let (fx, cx) = (calib.depth.fx, calib.depth.cx);
+    let shadow_start = (cx + fx * 0.1 / 1.1) - calib.fb() * (1.0 / 1.1 - 1.0 / 3.0);
+    let wall_x = (shadow_start - cx) * 3.0 / fx;
+    let (s0, f0, f1) = (x_rgb(wall_x, 3.0), x_rgb(0.1, 1.1), x_rgb(0.1, 0.9));
+    assert!(
+        f1 - f0 >= 6.0,
+        "the face spans {f0:.1}..{f1:.1} in the RGB view"
+    );
+    // RGB rows well inside the blanked IR rows 200..280 (at 0.9 to 1.1 m they move by < 16).
+    let (mut face, mut shade) = (Vec::new(), Vec::new());
+    for v in 220..260 {
+        face.extend((f0.ceil() as usize + 1..f1.floor() as usize).map(|u| v * WIDTH + u));
+        shade.extend((s0.ceil() as usize + 4..f0.floor() as usize - 3).map(|u| v * WIDTH + u));
+    }
     let share =
-        |px: &[usize], code| count_labelled(&out.ir_labels, px, code) as f64 / px.len() as f64;
-    (share(&face, OTHER), share(&shade, ATTACHED))
+        |px: &[usize], code| count_labelled(&out.rgb_labels, px, code) as f64 / px.len() as f64;
+    let (face, shade) = (share(&face, OTHER), share(&shade, ATTACHED));
+    assert!(face >= 0.9, "{face:.3} of the face's RGB pixels OTHER");
+    assert!(
+        shade >= 0.95,
+        "{shade:.3} of the shadow's RGB pixels attached"
+    );
 }
 
 #[test]

@@ -494,7 +494,7 @@ impl ColourSplit {
                     // Whatever the readings above left of it: the occluder's own face the
                     // hole may end in.
                     if attached && labels[v * WIDTH + b - 1] == ATTACHED {
-                        self.occluder_face_in_hole(raw, rgb, labels, v, (a, b));
+                        self.occluder_face_in_hole(raw, rgb, labels, filled, v, (a, b));
                     }
                     u = mask.next_hole(b.max(u + 1));
                     continue;

@@ -7,7 +7,8 @@
 //! that would be one even if lit, OTHER (SPEC §1). The RGB camera sees it: read at the
 //! occluder's depth, the hole's right end shows the occluder's colour, where a shadow on the
 //! background would show the background's (at that depth the RGB camera looks just left of the
-//! occluder's edge, past it).
+//! occluder's edge, past it). The face then takes the occluder's depths for the warp, so the RGB
+//! view shows it beside the occluder too.
 
 use super::{chroma_off, hue_dist, relabel, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE};
 use crate::labels::{ATTACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
@@ -43,13 +44,14 @@ fn lit(p: [i32; 3]) -> bool {
 
 impl ColourSplit {
     /// Relabels OTHER the right end of the attached hole `[a, b)` of row `v` where the RGB
-    /// camera sees the occluder (Sb, right of the hole) over it at the occluder's depth (see the
-    /// module's docs).
+    /// camera sees the occluder (Sb, right of the hole) over it at the occluder's depth, and
+    /// gives those pixels the face's depths in `filled` (see the module's docs).
     pub(super) fn occluder_face_in_hole(
         &self,
         raw: &[u16],
         rgb: &[u8],
         labels: &mut [u8],
+        filled: &mut [u16],
         v: usize,
         (a, b): (usize, usize),
     ) {
@@ -148,5 +150,16 @@ impl ColourSplit {
             return;
         }
         relabel(&mut labels[row + start..row + b], ATTACHED, OTHER);
+        // The face lies at the occluder's depths: warped there, it hides the wall behind it in
+        // the RGB view, as it does for the RGB camera. (At the wall's depth the occluder hid
+        // the face instead, and the shadow showed where the camera sees the face.) It recedes
+        // from Sb's edge to its far edge, whose shadow starts at `a` (eq. 3); each column is
+        // taken at its centre.
+        let near = self.disp(sb);
+        let far = far_edge(start).map_or(near, |r| self.disp(r));
+        let width = (b - start) as f64;
+        for (k, f) in filled[row + start..row + b].iter_mut().enumerate() {
+            *f = self.raw_at_disp(far + (near - far) * (k as f64 + 0.5) / width);
+        }
     }
 }
