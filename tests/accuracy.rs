@@ -4743,9 +4743,14 @@ fn box_side_face_hides_the_wall_behind_it_in_the_rgb_view_too() {
         f1 - f0 >= 6.0,
         "the face spans {f0:.1}..{f1:.1} in the RGB view"
     );
-    // RGB rows well inside the blanked IR rows 200..280 (at 0.9 to 1.1 m they move by < 16).
+    // RGB rows inside the blanked IR rows 200..280, a few rows clear of their ends (the NYU
+    // defaults move the RGB camera along x only, so an IR row lands on one RGB row whatever
+    // the depth).
+    let v_rgb = |v: f64| calib.rgb.fy * (v - calib.depth.cy) / calib.depth.fy + calib.rgb.cy;
+    let rows = v_rgb(200.0).ceil() as usize + 3..v_rgb(279.0).floor() as usize - 3;
+    assert!(rows.len() >= 50, "RGB rows {rows:?}");
     let (mut face, mut shade) = (Vec::new(), Vec::new());
-    for v in 220..260 {
+    for v in rows {
         face.extend((f0.ceil() as usize + 1..f1.floor() as usize).map(|u| v * WIDTH + u));
         shade.extend((s0.ceil() as usize + 4..f0.floor() as usize - 3).map(|u| v * WIDTH + u));
     }
