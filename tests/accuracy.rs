@@ -4765,6 +4765,78 @@ fn box_side_face_hides_the_wall_behind_it_in_the_rgb_view_too() {
 }
 
 #[test]
+fn box_right_side_face_above_a_floor_is_no_shadow_on_the_wall_it_hides() {
+    // A green box on a floor 0.5 m below the camera, x = −0.3..−0.1 m, z = 0.9..1.1 m, before a
+    // pale wall at 4 m. Left of the camera, its right face (x = −0.1) faces the IR camera at a
+    // grazing angle and returns no depth (blanked here, as the grazing test above does): by hand
+    // it spans columns cx − fx·0.1/0.9 to cx − fx·0.1/1.1 (248.3 to 260.1). Right of it lies the
+    // floor, nearer than the wall the face hides above the box: where the floor is near enough
+    // (z = 0.5·fy/(v − cy) under 1.9 m, row 392 on), eq. (3) for the floor's shadow on that wall
+    // fits the hole, and the scanline reads it so. The RGB camera shows the box's green there at
+    // the box's depth. In the rows below, none of the face was OTHER before in either view (all
+    // of it attached in the IR view), all of it is now.
+    let calib = Calibration::nyu_default();
+    let (fx, cx, fy, cy) = (
+        calib.depth.fx,
+        calib.depth.cx,
+        calib.depth.fy,
+        calib.depth.cy,
+    );
+    let mut scene = Scene::new("box with a grazing right face on a floor");
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(4.0),
+        umbra::synth::Material::matte([0.8, 0.8, 0.75]),
+    );
+    scene.push(
+        "floor",
+        umbra::synth::scene::floor(0.5, 0.0),
+        umbra::synth::Material::matte([0.6, 0.5, 0.45]),
+    );
+    push_box(
+        &mut scene,
+        "box",
+        [-0.2, 0.2, 1.0],
+        [0.1, 0.3, 0.1],
+        umbra::synth::Material::matte([0.2, 0.6, 0.25]),
+    );
+    let (u_front, u_back) = (cx - fx * 0.1 / 0.9, cx - fx * 0.1 / 1.1);
+    let mut frame = render_frame(&scene, &calib, &SensorModel::kinect(), 40);
+    // From above the box's top (y = −0.1 m: row 173.7 at its front) down: no depth on the face.
+    let blank = u_front.ceil() as usize..u_back.floor() as usize + 1;
+    assert_eq!(blank, 249..261);
+    for v in 170..HEIGHT {
+        frame.raw[v * WIDTH..(v + 1) * WIDTH][blank.clone()].fill(NO_DEPTH);
+    }
+    let first_row = (cy + 0.5 * fy / 1.9).ceil() as usize;
+    assert_eq!(first_row, 392);
+    let face: Vec<usize> = (first_row..470)
+        .flat_map(|v| (blank.start + 1..blank.end - 1).map(move |u| v * WIDTH + u))
+        .collect();
+    let out = classify_rgb(&calib, &frame);
+    let other = count_labelled(&out.ir_labels, &face, OTHER) as f64 / face.len() as f64;
+    assert!(other >= 0.9, "{other:.3} of the face's pixels OTHER");
+    // The RGB camera sees the face from its front edge, x_rgb = f_rgb·(−0.1 + t_x)/0.9 + c_x
+    // (253.4), to its back edge (266.6); the face's first 8 columns there, in the RGB rows of
+    // those IR rows (the NYU defaults move the RGB camera along x only).
+    let (t_x, f_rgb, c_rgb) = (calib.depth_to_rgb.translation.x, calib.rgb.fx, calib.rgb.cx);
+    let front = f_rgb * (-0.1 + t_x) / 0.9 + c_rgb;
+    let v_rgb = |v: f64| calib.rgb.fy * (v - cy) / fy + calib.rgb.cy;
+    let rgb_face: Vec<usize> = (v_rgb(first_row as f64).ceil() as usize + 1
+        ..v_rgb(469.0).floor() as usize)
+        .flat_map(|v| {
+            (front.ceil() as usize + 1..front.ceil() as usize + 9).map(move |u| v * WIDTH + u)
+        })
+        .collect();
+    let rgb_other =
+        count_labelled(&out.rgb_labels, &rgb_face, OTHER) as f64 / rgb_face.len() as f64;
+    assert!(
+        rgb_other >= 0.9,
+        "{rgb_other:.3} of the face's RGB pixels OTHER"
+    );
+}
+
+#[test]
 fn strip_past_a_box_whose_right_edge_returns_no_depth_is_alignment() {
     // A grey-brown box, front face x = −0.2..0.1 m at 1 m, before the pale wall at 3 m. Its last
     // 6 mm (about 3.5 px) are glossy: the same colour in the RGB image, no depth in the IR one, as

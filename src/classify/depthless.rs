@@ -495,6 +495,8 @@ impl ColourSplit {
                     // hole may end in.
                     if attached && labels[v * WIDTH + b - 1] == ATTACHED {
                         self.occluder_face_in_hole(raw, rgb, labels, filled, v, (a, b));
+                        // Or Sa's own face, where Sa is the nearer side.
+                        self.near_side_face(raw, rgb, labels, filled, v, (a, b));
                     }
                     u = mask.next_hole(b.max(u + 1));
                     continue;

@@ -9,6 +9,12 @@
 //! background would show the background's (at that depth the RGB camera looks just left of the
 //! occluder's edge, past it). The face then takes the occluder's depths for the warp, so the RGB
 //! view shows it beside the occluder too.
+//!
+//! A box's other side face, its right one, lies right of it: a hole between the box (Sa, the
+//! nearer side) and whatever is behind (Sb). The scanline may read that hole as Sb's attached
+//! shadow on a background the box hides (eq. 3 with a background found above the hole, a far
+//! wall above a floor). Read at the box's depth, the face shows the box's colour where the
+//! shadow would show the background's.
 
 use super::{chroma_off, hue_dist, relabel, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE};
 use crate::labels::{ATTACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
@@ -160,6 +166,75 @@ impl ColourSplit {
         let width = (b - start) as f64;
         for (k, f) in filled[row + start..row + b].iter_mut().enumerate() {
             *f = self.raw_at_disp(far + (near - far) * (k as f64 + 0.5) / width);
+        }
+    }
+
+    /// Relabels OTHER the attached hole `[a, b)` of row `v` right of a nearer surface (Sa) where
+    /// the RGB camera sees Sa's own colour over it at Sa's depth, and gives it Sa's depth in
+    /// `filled` (see the module's docs).
+    pub(super) fn near_side_face(
+        &self,
+        raw: &[u16],
+        rgb: &[u8],
+        labels: &mut [u8],
+        filled: &mut [u16],
+        v: usize,
+        (a, b): (usize, usize),
+    ) {
+        let row = v * WIDTH;
+        if a < SIDE || b + SIDE > WIDTH || b - a < BLEND + MIN_FACE {
+            return;
+        }
+        let (sa, sb) = (raw[row + a - 1], raw[row + b]);
+        if sa == NO_DEPTH
+            || sb == NO_DEPTH
+            || self.disp(sa) < self.disp(sb) + SAME_SURFACE
+            || !labels[row + a..row + b].iter().all(|&l| l == ATTACHED)
+        {
+            return;
+        }
+        // Both sides one surface each over a few pixels, their colours read there (Sa's but for
+        // its edge's blended column).
+        if !raw[row + a - SIDE..row + a]
+            .iter()
+            .all(|&r| self.on_surface(r, sa))
+            || !raw[row + b..row + b + SIDE]
+                .iter()
+                .all(|&r| self.on_surface(r, sb))
+        {
+            return;
+        }
+        let Some(near) = self.mean_colour(rgb, v, a - SIDE..a - BLEND, sa) else {
+            return;
+        };
+        // The background the shadow would lie on, as the scanline placed it: what the RGB camera
+        // shows over the hole at that depth (the face itself in part, the rest beyond it).
+        let Some(wall) = self.mean_colour(rgb, v, a..b, filled[row + a]) else {
+            return;
+        };
+        let step = self.dimmed(COLOUR_STEP, near);
+        let hued = chroma_off(near, wall) >= HUED && lit(near);
+        if hue_dist(near, wall) < 2 * step && !hued {
+            return;
+        }
+        let shows_near = |p: [i32; 3]| {
+            let (d_near, d_wall) = (hue_dist(p, near), hue_dist(p, wall));
+            (d_near < step && 3 * d_near <= d_wall)
+                || (hued && lit(p) && {
+                    let (to_near, to_wall) = (chroma_off(p, near), chroma_off(p, wall));
+                    to_near <= TINTED_HUE && HUE_RATIO * to_near <= to_wall
+                })
+        };
+        // Half the columns past the edge's blend: a face in shade is dark and noisy (above).
+        let cols = a + BLEND..b;
+        let n = cols.len();
+        let shown = cols
+            .filter(|&u| self.probe(rgb, u, v, sa).is_some_and(shows_near))
+            .count();
+        if 2 * shown >= n {
+            relabel(&mut labels[row + a..row + b], ATTACHED, OTHER);
+            // The face recedes from Sa's edge; at Sa's depth the warp puts it beside Sa.
+            filled[row + a..row + b].fill(sa);
         }
     }
 }
