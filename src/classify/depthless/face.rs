@@ -62,11 +62,10 @@ impl ColourSplit {
         (a, b): (usize, usize),
     ) {
         let row = v * WIDTH;
-        if a < SIDE || b + SIDE > WIDTH || b - a < BLEND + MIN_FACE + 1 {
+        let Some((sa, sb)) = hole_sides(raw, v, (a, b), BLEND + MIN_FACE + 1) else {
             return;
-        }
-        let (sa, sb) = (raw[row + a - 1], raw[row + b]);
-        if sa == NO_DEPTH || sb == NO_DEPTH || self.disp(sb) < self.disp(sa) + SAME_SURFACE {
+        };
+        if self.disp(sb) < self.disp(sa) + SAME_SURFACE {
             return;
         }
         // Sb's first pixels are one surface (within a step of disparity of its edge): its colour
@@ -102,13 +101,9 @@ impl ColourSplit {
         let Some(wall) = self.mean_colour(rgb, v, a - SIDE..a, sa) else {
             return;
         };
-        let step = self.dimmed(COLOUR_STEP, wall);
-        // The face is the occluder's colour, or its hue in other light (it is turned from the
-        // front face, and lit otherwise).
-        let hued = chroma_off(occluder, wall) >= HUED && lit(occluder);
-        if hue_dist(occluder, wall) < 2 * step && !hued {
+        let Some((step, hued)) = self.face_step(occluder, wall) else {
             return;
-        }
+        };
         let shows_occluder = |p: [i32; 3]| {
             let (d_occ, d_wall) = (hue_dist(p, occluder), hue_dist(p, wall));
             (d_occ < step && 3 * d_occ <= d_wall && d_occ + step <= d_wall)
@@ -182,13 +177,10 @@ impl ColourSplit {
         (a, b): (usize, usize),
     ) {
         let row = v * WIDTH;
-        if a < SIDE || b + SIDE > WIDTH || b - a < BLEND + MIN_FACE {
+        let Some((sa, sb)) = hole_sides(raw, v, (a, b), BLEND + MIN_FACE) else {
             return;
-        }
-        let (sa, sb) = (raw[row + a - 1], raw[row + b]);
-        if sa == NO_DEPTH
-            || sb == NO_DEPTH
-            || self.disp(sa) < self.disp(sb) + SAME_SURFACE
+        };
+        if self.disp(sa) < self.disp(sb) + SAME_SURFACE
             || !labels[row + a..row + b].iter().all(|&l| l == ATTACHED)
         {
             return;
@@ -212,11 +204,9 @@ impl ColourSplit {
         let Some(wall) = self.mean_colour(rgb, v, a..b, filled[row + a]) else {
             return;
         };
-        let step = self.dimmed(COLOUR_STEP, near);
-        let hued = chroma_off(near, wall) >= HUED && lit(near);
-        if hue_dist(near, wall) < 2 * step && !hued {
+        let Some((step, hued)) = self.face_step(near, wall) else {
             return;
-        }
+        };
         let shows_near = |p: [i32; 3]| {
             let (d_near, d_wall) = (hue_dist(p, near), hue_dist(p, wall));
             (d_near < step && 3 * d_near <= d_wall)
@@ -237,4 +227,26 @@ impl ColourSplit {
             filled[row + a..row + b].fill(sa);
         }
     }
+
+    /// How a face of colour `face` is told from the wall of colour `wall`: the step within
+    /// which a colour is the face's (as loose as the wall is dim: the tests that use it are
+    /// dimmed by the wall, not by a dark occluder), and whether the face's hue alone tells it
+    /// (it is turned from the front face, and lit otherwise). `None` when neither colour nor
+    /// hue does.
+    fn face_step(&self, face: [i32; 3], wall: [i32; 3]) -> Option<(u32, bool)> {
+        let step = self.dimmed(COLOUR_STEP, wall);
+        let hued = chroma_off(face, wall) >= HUED && lit(face);
+        (hue_dist(face, wall) >= 2 * step || hued).then_some((step, hued))
+    }
+}
+
+/// Sa and Sb, the measured pixels either side of the hole `[a, b)` of row `v`, where the hole is
+/// at least `min` pixels wide and [`SIDE`] pixels on each side of it lie in the image.
+fn hole_sides(raw: &[u16], v: usize, (a, b): (usize, usize), min: usize) -> Option<(u16, u16)> {
+    let row = v * WIDTH;
+    if a < SIDE || b + SIDE > WIDTH || b - a < min {
+        return None;
+    }
+    let (sa, sb) = (raw[row + a - 1], raw[row + b]);
+    (sa != NO_DEPTH && sb != NO_DEPTH).then_some((sa, sb))
 }
