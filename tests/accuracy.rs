@@ -244,6 +244,66 @@ fn detached_shadow_whose_left_end_hides_behind_a_nearer_rod() {
 }
 
 #[test]
+fn detached_shadow_whose_left_end_hides_behind_a_nearer_objects_dropout() {
+    // The 2 cm rod at x = 0.1 m, 1 m, before a wall at 3 m: its detached shadow spans columns
+    // cx + fx·(0.1 ± 0.01) − 29.1 = 336.4..348.1. A box at 2 m stands left of it, matte over
+    // columns 290..318 and black (no depth) over 318..342, rows 200..260: the black part hides
+    // the shadow's left end, and the rest of the shadow, 342..348, makes one hole with it, the
+    // matte part (nearer than the wall) on its left. Eq. (5) still places the shadow's right end.
+    // (The rows above and below the box show the whole shadow as a hole of its own.)
+    let calib = Calibration::nyu_default();
+    let (d, z) = (&calib.depth, 2.0);
+    let x = |u: f64| (u - d.cx) * z / d.fx;
+    let y = |v: f64| (v - d.cy) * z / d.fy;
+    let (top, bottom) = (y(200.0), y(260.0));
+    let mut scene = Scene::rod_before_wall(0.1, 1.0, 0.01, 3.0);
+    for (name, from, to, material) in [
+        (
+            "box",
+            290.0,
+            318.0,
+            umbra::synth::Material::matte([0.3, 0.45, 0.6]),
+        ),
+        ("box", 318.0, 342.0, umbra::synth::Material::black()),
+    ] {
+        push_box(
+            &mut scene,
+            name,
+            [(x(from) + x(to)) / 2.0, (top + bottom) / 2.0, z + 0.02],
+            [(x(to) - x(from)) / 2.0, (bottom - top) / 2.0, 0.02],
+            material,
+        );
+    }
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 6);
+    let out = classify_rgb(&calib, &frame);
+    let shadow_right = d.cx + 0.11 * d.fx - calib.fb() * (1.0 - 1.0 / 3.0);
+    let mut rows = 0;
+    for v in 204..256 {
+        let truth = &frame.ir_labels[v * WIDTH..(v + 1) * WIDTH];
+        let row = &out.ir_labels[v * WIDTH..(v + 1) * WIDTH];
+        let rest: Vec<usize> = (320..360).filter(|&u| truth[u] == DETACHED).collect();
+        assert!(
+            rest.len() >= 5
+                && truth[320..rest[0]].iter().all(|&l| l == OTHER)
+                && frame.raw[v * WIDTH + 317] != NO_DEPTH,
+            "row {v}: the scene has the shadow's rest {rest:?} after the black part"
+        );
+        // The shadow's visible rest, its right end where eq. (5) puts it.
+        assert!(
+            (rest[0] + 1..*rest.last().unwrap()).all(|u| row[u] == DETACHED),
+            "row {v}: the shadow's rest {rest:?} is detached"
+        );
+        let last = (320..360).rev().find(|&u| row[u] == DETACHED).unwrap();
+        assert!(
+            (last as f64 - shadow_right).abs() <= 1.5,
+            "row {v}: ends at {last}"
+        );
+        rows += 1;
+    }
+    assert!(rows >= 50);
+}
+
+#[test]
 fn thin_rod_in_a_nearer_boards_shadow_keeps_its_alignment_strip() {
     // A wall at 3 m; a board 1 cm thick at 1 m whose left edge is at IR column 400 (x = 0.149 m),
     // rows 151..325; its attached shadow on the wall spans 400 − f·b·(1 − 1/3) = 370.9 to 400. A

@@ -1046,8 +1046,9 @@ fn classify_bounded(
         other => other,
     };
     match verdict {
-        // A tail comes only from a hole at the left border.
-        Detached::No | Detached::Tail { .. } => {
+        // The rest of the hole stays OTHER.
+        Detached::Tail { from } => set(labels, raw, from, h.end, DETACHED),
+        Detached::No => {
             // A step under `min_step` that no detached occluder explains: a thin edge's
             // attached shadow, which the widening makes visible (eq. 3 at half the step). The
             // edge pixels themselves must show it: on a flat surface, the extremes of noisy
@@ -1685,9 +1686,10 @@ enum Detached {
     /// Cast by an occluder with no depth of its own (black or glossy), seen as the hole
     /// `occluder` whose depth the shift implies (`raw`).
     Depthless { occluder: Run, raw: u16 },
-    /// At the left border only: a measured occluder's shadow (eq. 5 at the hole's right end)
-    /// fills the hole from column `from` on; the rest, left of it, is something else (a region
-    /// beyond range, the sensor's dead band) that the shadow merged with.
+    /// At the left border, or behind a nearer surface at Sa ([`TAIL_HIDER`]): a measured
+    /// occluder's shadow (eq. 5 at the hole's right end) fills the hole from column `from` on;
+    /// the rest, left of it, is something else (a region beyond range, the sensor's dead band,
+    /// the nearer object's dropout) that the shadow merged with.
     Tail { from: usize },
     /// A measured occluder's shadow fits the hole's left end (eq. 4) and ends, by eq. (5),
     /// before column `to` short of the hole's end: the rest is something else the shadow merged
@@ -2195,6 +2197,11 @@ fn detached_beyond_sb(
         )
 }
 
+/// Fewest pixels of a nearer surface left of a hole (Sa's) behind which a detached shadow's
+/// left part may hide, merged with the surface's own dropout: a single nearer pixel is more
+/// often a sliver between two holes (a black poster's) than an object.
+const TAIL_HIDER: f32 = 3.0;
+
 /// Widest run of Sb's surface [`detached_beyond_sb`] looks past. What it catches shows a lit
 /// gap of a pixel or two, or a narrow step: every suite of both simulators scored the same with
 /// 8 px, 24 px or no limit, and 8 px took most of the test's cost off a frame full of attached
@@ -2416,7 +2423,10 @@ fn search_occluder(
             let shadow_end = h.end as f32 + e5;
             // Eq. (4) solved for Sa: where its shadow starts.
             let shadow_start = h.start as f32 - 1.0 + e4;
-            if sa.is_none() && fits5 && !cut_fits {
+            // Past the left border, or behind a nearer object standing left of the hole, the
+            // hole's left part may be something else the shadow merged with (a region beyond
+            // range, the nearer object's own dropout): only eq. (5) can be read.
+            if hidden >= TAIL_HIDER && fits5 && !cut_fits {
                 // The widening moves the shadow's left end left as well.
                 let from = (shadow_start - WIDENING).floor().max(h.start as f32) as usize;
                 if from > h.start && from < h.end && shows_its_start(p, rows, from, h.end) {
@@ -2863,18 +2873,19 @@ fn hole_after(raw: &[u16], end: usize, reach: usize) -> Option<usize> {
 }
 
 /// True when a row nearby (the nearest that answers, up to 40 rows away) shows the left end of
-/// the shadow `[from, end)` that this row's hole merged with something at the left border: the
-/// hole through the shadow's middle there is a whole detached shadow (eqs. 4–5) starting near
+/// the shadow `[from, end)` that this row's hole merged with something on its left: the hole
+/// through the shadow's middle there is a whole detached shadow (eqs. 4–5) starting near
 /// `from`. Eq. (5) alone fits where an object's left edge happens to lie where a rod's shadow on
-/// it would end (a shadow that never falls on that object, in any row).
+/// it would end (a shadow that never falls on that object, in any row). A row whose hole there
+/// starts well left of `from` is merged too, and has no say.
 fn shows_its_start(p: &ScanParams, rows: Rows, from: usize, end: usize) -> bool {
     let mid = (from + end) / 2;
     let none = Rows { up: &[], down: &[] };
     occluder_width_nearby(WIDTH, rows, |row| {
         Some(match hole_around(row, mid) {
+            Some(run) if run.start > 0 && (run.start as f32 + 2.0 * WIDENING) < from as f32 => None,
             Some(run) if run.start > 0 && run.end < row.len() => Some(
-                run.start as f32 + 2.0 * WIDENING >= from as f32
-                    && run.start < mid
+                run.start < mid
                     && matches!(
                         search_occluder(
                             p,
