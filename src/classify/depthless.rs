@@ -28,7 +28,9 @@
 //!   that Sb, its face and its shadow, read as a hole running on into a nearer surface
 //!   (`depthless/behind_rod.rs`);
 //! - an attached hole may end in its occluder's own side face, seen at a grazing angle, which
-//!   the RGB camera shows in the occluder's hue (`depthless/face.rs`).
+//!   the RGB camera shows in the occluder's hue (`depthless/face.rs`);
+//! - a detached shadow's tail the scanline read at the right end of a hole it shares with a
+//!   nearer object's dropout starts where the RGB camera sees the wall (`depthless/tail.rs`).
 //!
 //! Runs on holes the scanline left OTHER (splits only on those at least 10 px wide; the thin-Sb
 //! reading on attached ones), after the scanline and before the warp; nothing is allocated.
@@ -50,6 +52,7 @@ mod pairs;
 mod patch;
 mod rod_in_shadow;
 mod silhouette;
+mod tail;
 mod unlike;
 
 /// Narrowest merged hole considered (pixels): a shadow and an occluder of 5 px each. Narrower
@@ -501,6 +504,9 @@ impl ColourSplit {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
+                // A detached shadow's tail the scanline found in the hole starts where the RGB
+                // camera sees the wall.
+                self.tail_on_its_wall(raw, rgb, labels, v, (a, b));
                 // A shadow beside a patch without depth leaves the patch's part of the hole to
                 // the colour split below: a depthless occluder's own shadow may lie left of it.
                 let patched = self.shadow_beside_patch(raw, rgb, labels, v, (a, b));

@@ -1046,7 +1046,8 @@ fn classify_bounded(
         other => other,
     };
     match verdict {
-        // The rest of the hole stays OTHER.
+        // The rest of the hole stays OTHER; where the shadow really starts, the RGB camera
+        // tells (`depthless/tail.rs`).
         Detached::Tail { from } => set(labels, raw, from, h.end, DETACHED),
         Detached::No => {
             // A step under `min_step` that no detached occluder explains: a thin edge's
