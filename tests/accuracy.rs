@@ -5375,3 +5375,48 @@ fn narrow_deep_box_whose_side_the_projector_sees_casts_an_attached_shadow() {
         "{share:.3} of the shadow attached, {detached} pixels detached"
     );
 }
+
+#[test]
+fn shadow_on_a_receding_wall_past_the_frames_farthest_value_stays_attached() {
+    // A wall turned 30° away to the right, z = 3.31 m + x·tan 30°, and a panel at 1 m covering
+    // the view from column 560 (x = 0.424 m) to the right border, its attached shadow on the wall
+    // about 35 px wide. Along a row the wall lies at 3.31 / (1 − tan 30°·(u − cx)/fx): 4.17 m at
+    // column 521, where the shadow starts, and 4.38 m at 560, behind the panel's edge. So the
+    // whole shadow lies on the wall inside the sensor's 4.5 m, though past the farthest value
+    // the frame measures (the wall just left of the shadow). Carried over the shadow, the wall's
+    // slope, read off 16 noisy pixels, crossed that value in a fifth of the shadow's pixels.
+    let calib = Calibration::nyu_default();
+    let tilt = 30f64.to_radians();
+    let mut scene = Scene::new("panel before a wall receding towards the range's end");
+    scene.push(
+        "wall",
+        umbra::synth::Shape::Plane {
+            normal: umbra::synth::V3::new(tilt.sin(), 0.0, -tilt.cos()),
+            offset: -3.31 * tilt.cos(),
+        },
+        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
+    );
+    push_box(
+        &mut scene,
+        "panel",
+        [0.424 + 0.3, 0.0, 1.0],
+        [0.3, 3.0, 0.02],
+        umbra::synth::Material::matte([0.3, 0.45, 0.6]),
+    );
+    let (mut truth, mut hit) = (0, 0);
+    for seed in 0..8 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        let out = classify(&calib, &frame);
+        for i in 0..PIXELS {
+            if frame.ir_labels[i] == ATTACHED {
+                truth += 1;
+                hit += usize::from(out.ir_labels[i] == ATTACHED);
+            }
+        }
+    }
+    assert!(truth > 100_000, "the scene has the shadow: {truth} px");
+    assert!(
+        hit as f64 >= 0.95 * truth as f64,
+        "{hit} of {truth} shadow pixels attached"
+    );
+}
