@@ -5403,20 +5403,20 @@ fn shadow_on_a_receding_wall_past_the_frames_farthest_value_stays_attached() {
         [0.3, 3.0, 0.02],
         umbra::synth::Material::matte([0.3, 0.45, 0.6]),
     );
-    let (mut truth, mut hit) = (0, 0);
+    let mut c = Confusion::default();
     for seed in 0..8 {
         let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
-        let out = classify(&calib, &frame);
-        for i in 0..PIXELS {
-            if frame.ir_labels[i] == ATTACHED {
-                truth += 1;
-                hit += usize::from(out.ir_labels[i] == ATTACHED);
-            }
-        }
+        c.add(&frame.ir_labels, &classify(&calib, &frame).ir_labels);
     }
-    assert!(truth > 100_000, "the scene has the shadow: {truth} px");
+    let attached = c.class(ATTACHED);
     assert!(
-        hit as f64 >= 0.95 * truth as f64,
-        "{hit} of {truth} shadow pixels attached"
+        attached.support > 100_000,
+        "the scene has the shadow: {} px",
+        attached.support
+    );
+    assert!(
+        attached.recall.unwrap() >= 0.95,
+        "{:?} of the shadow's pixels attached",
+        attached.recall
     );
 }
