@@ -1017,7 +1017,7 @@ fn classify_bounded(
             place(filled, raw, h, bg);
         }
         beyond_range(raw, h, range, above, prev_labels, near, labels);
-        below_unmeasured(p, raw, h, (near[0], above), prev_labels, labels);
+        below_unmeasured(p, raw, h, (sb.near, w), (rows, above), prev_labels, labels);
         return;
     }
     // A depthless occluder a pixel or two right of its shadow shares one hole with it (the lit
@@ -1082,15 +1082,22 @@ fn classify_bounded(
 /// Above a region the sensor cannot measure lies no measured surface at Sa's depth: where the
 /// column memory over the hole's first pixel shows one (`above`), the hole above was something
 /// else on that surface, and this hole's top lies under it (an occluder's top face, seen at a
-/// grazing angle, is a hole too).
+/// grazing angle, is a hole too). Nor is a hole eq. (3) fits to within the sensor's widening
+/// ([`FITS_UNDER`], [`FITS_OVER`]) where the hole above runs on past its end onto Sb's own
+/// surface: that is Sb's shadow there too, joined to a dropout on Sb's face (a glossy patch),
+/// and the occluder stands in both rows; a region running on down behind Sb ends elsewhere
+/// above it, or not at all.
+/// `(sb, w)`: Sb's nearer raw value and eq. (3)'s width from it.
 fn below_unmeasured(
     p: &ScanParams,
     raw: &[u16],
     h: Run,
-    (up, above): (&[u16], &[u16]),
+    (sb, w): (u16, f32),
+    (rows, above): (Rows, &[u16]),
     prev_labels: &[u8],
     labels: &mut [u8],
 ) {
+    let [up, _] = rows.near(raw.len());
     let a = h.start - 1;
     // Sa's surface above must bound the hole there too: a pixel of it alone is an island inside
     // a hole of the row above that starts further left (a box's grazing top edge over the
@@ -1114,10 +1121,58 @@ fn below_unmeasured(
     let above_other = prev_labels
         .get(h.start..h.end)
         .is_some_and(|l| l.iter().all(|&l| l == OTHER));
-    if same_sa && above_other {
+    if !(same_sa && above_other) {
+        return;
+    }
+    let width = (h.end - h.start) as f32;
+    let fits = (w - FITS_UNDER..=w + FITS_OVER).contains(&width);
+    if !(fits && sb_all_the_way_up(p, rows.up, raw.len(), h, sb)) {
         set(labels, raw, h.start, h.end, OTHER);
     }
 }
+
+/// Whether the holes above `h` through its first column, row after row, end on Sb's surface
+/// (raw `sb`) up to where that chain starts: at the hole region's top (a shadow's first row, the
+/// lit background above it) or at a hole that runs on well past the one below it onto Sb (Sb's
+/// own dropout joined to its shadow). A hole on the way that runs to the border or ends on another
+/// surface is the unmeasured region; so is a chain longer than [`CHAIN_ROWS`], unread. `rows_up`:
+/// every row above, whole rows of `width` values.
+fn sb_all_the_way_up(p: &ScanParams, rows_up: &[u16], width: usize, h: Run, sb: u16) -> bool {
+    let (mut end, mut on) = (h.end, sb);
+    for row in rows_up.rchunks_exact(width).take(CHAIN_ROWS) {
+        if row[h.start] != NO_DEPTH {
+            return true;
+        }
+        let Some(e) = (h.start..width).find(|&u| row[u] != NO_DEPTH) else {
+            return false;
+        };
+        // Sb's surface from row to row (a slanted occluder's moves a little).
+        if (p.disp(row[e]) - p.disp(on)).abs() >= p.min_step {
+            return false;
+        }
+        if e > end + WIDER_ABOVE {
+            return true;
+        }
+        (end, on) = (e, row[e]);
+    }
+    false
+}
+
+/// Rows [`sb_all_the_way_up`] reads at most.
+const CHAIN_ROWS: usize = 64;
+
+/// Pixels by which a hole must run on past the one below it to be Sb's dropout joined to its
+/// shadow: a slanted edge moves a pixel a row, a round occluder's silhouette near its top a few
+/// (a sphere in this project's suite of seed 424242, whose region beyond range above it then
+/// counted as shadow); a dropout patch on Sb's face runs on tens of pixels.
+const WIDER_ABOVE: usize = 6;
+
+/// Pixels by which a hole may fall short of eq. (3) and still be the shadow for
+/// [`below_unmeasured`]: noise on Sa and Sb.
+const FITS_UNDER: f32 = 3.0;
+/// Pixels by which it may exceed eq. (3): the real sensor's widening, +2.3 px on average over a
+/// pole's shadow in the NYU frame, up to 7 (SPEC §1).
+const FITS_OVER: f32 = 6.0;
 
 /// Disparity (pixels) by which the column memory over a hole may lie farther than Sa and still
 /// be Sa's lit surface for [`below_unmeasured`] (a wall seen at a slant over the shadow's rows).
@@ -4595,6 +4650,37 @@ mod tests {
         for v in [100, 101, 250, 479] {
             let hole = &labels[v * WIDTH + 300..v * WIDTH + 308];
             assert!(hole.iter().all(|&l| l == ATTACHED), "row {v}: {hole:?}");
+        }
+    }
+
+    #[test]
+    fn shadow_below_the_occluders_dropout_joined_to_it_stays_attached() {
+        // A wall at 2 m; a post at 0.7 m fills columns [264, 400) of every row. By hand (eq. 3)
+        // its shadow is f·b·(1/0.7 − 1/2) = 40.6 px wide: the hole [223, 264). Over rows
+        // [150, 194) the post's left part, [264, 362), is a glossy patch without depth, joined
+        // to the shadow in one hole that ends on the post: no reading explains it (OTHER). Under
+        // it, the shadow alone again, after the same wall, under that OTHER hole. It is no region
+        // running down behind the post: the post stands in both rows, the hole above ends on it,
+        // and eq. (3) fits. Before, every row under the patch inherited OTHER, down to the
+        // frame's bottom (a fifth simulator's k35 s019: 2 700 px).
+        let (c, p) = params();
+        let (wall, post) = (raw_at(&c, 2.0), raw_at(&c, 0.7));
+        let w = c.fb() * (1.0 / 0.7 - 1.0 / 2.0);
+        assert!((40.0..41.0).contains(&w), "shadow width {w}");
+        let start = 264 - w.round() as usize;
+        let mut raw = vec![wall; PIXELS];
+        for v in 0..HEIGHT {
+            let row = &mut raw[v * WIDTH..(v + 1) * WIDTH];
+            row[start..264].fill(NO_DEPTH);
+            row[264..400].fill(post);
+            if (150..194).contains(&v) {
+                row[264..362].fill(NO_DEPTH);
+            }
+        }
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        for v in [100, 194, 195, 300, 479] {
+            assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], start..264, ATTACHED);
         }
     }
 
