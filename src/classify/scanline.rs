@@ -1701,8 +1701,9 @@ const MIXED_PX: f32 = 3.0;
 const WIDENING: f32 = 3.0;
 
 /// Widest measured part (pixels) of an occluder without depth that [`hole_pair`] takes for its
-/// limb: a glossy rod's edge returns depth over a pixel or few. (Without the limit the readings
-/// paired a thin measured rod's neighbouring holes, this project's holdout 005: −0.001.)
+/// limb: a glossy rod's edge returns depth over a pixel or few. (Without the limit a thin
+/// measured rod paired the holes either side of it, this project's holdout 005: complex IR
+/// detached F1 −0.001.)
 const OWN_LIMB: usize = 4;
 
 /// Narrowest hole (pixels) taken for an occluder without depth: narrower ones are dropouts.
@@ -2701,7 +2702,7 @@ fn hole_pair(p: &ScanParams, raw: &[u16], h: Run, start: usize, d_bg: f32) -> Op
     let own_end = !at_border && !at_left && {
         let off = p.disp(raw[end]) - d_bg - (end - h.end) as f32;
         (-2.0..=2.0 * WIDENING).contains(&off)
-            && (end + 1..n.min(end + OWN_LIMB + 2))
+            && (end + 1..n.min(end + OWN_LIMB + 1))
                 .find(|&u| raw[u] == NO_DEPTH || level(u))
                 .is_some_and(|u| raw[u] != NO_DEPTH)
     };
