@@ -881,6 +881,14 @@ impl ColourSplit {
         r != NO_DEPTH && (self.disp(r) - self.disp(s)).abs() < SAME_SURFACE
     }
 
+    /// Whether IR pixels `us` of row `v` all lie on the surface of raw value `s`
+    /// ([`Self::on_surface`]): one surface there, whose colour may be read over them.
+    fn all_on_surface(&self, raw: &[u16], v: usize, us: std::ops::Range<usize>, s: u16) -> bool {
+        raw[v * WIDTH + us.start..v * WIDTH + us.end]
+            .iter()
+            .all(|&r| self.on_surface(r, s))
+    }
+
     /// Where (IR column, continuous) a depthless occluder filling a hole up to `b` ends: the
     /// hole's last pixel's right side, less [`EDGE_WIDENING`] of the frame's widening.
     fn occluder_right_edge(&self, b: usize) -> f64 {

@@ -70,9 +70,7 @@ impl ColourSplit {
         }
         // Sb's first pixels are one surface (within a step of disparity of its edge): its colour
         // is read there.
-        let on_sb = raw[row + b..row + b + SIDE]
-            .iter()
-            .all(|&r| self.on_surface(r, sb));
+        let on_sb = self.all_on_surface(raw, v, b..b + SIDE, sb);
         // A face is upright: the rows above and below end their hole at Sb's edge too (within
         // 2 px, a slanted edge). Where Sb's edge runs along the row (a box's bottom on a floor),
         // the RGB camera, a few millimetres lower, sees the box over the shadow's last row.
@@ -187,12 +185,8 @@ impl ColourSplit {
         }
         // Both sides one surface each over a few pixels, their colours read there (Sa's but for
         // its edge's blended column).
-        if !raw[row + a - SIDE..row + a]
-            .iter()
-            .all(|&r| self.on_surface(r, sa))
-            || !raw[row + b..row + b + SIDE]
-                .iter()
-                .all(|&r| self.on_surface(r, sb))
+        if !self.all_on_surface(raw, v, a - SIDE..a, sa)
+            || !self.all_on_surface(raw, v, b..b + SIDE, sb)
         {
             return;
         }

@@ -35,12 +35,7 @@ impl ColourSplit {
         // The wall the shadow lies on is Sb's surface, right of the hole.
         let sb = raw[row + b];
         // The rest must be wide enough for its colour to be read.
-        if from < a + SIDE
-            || sb == NO_DEPTH
-            || !raw[row + b..row + b + SIDE]
-                .iter()
-                .all(|&r| self.on_surface(r, sb))
-        {
+        if from < a + SIDE || sb == NO_DEPTH || !self.all_on_surface(raw, v, b..b + SIDE, sb) {
             return;
         }
         let (Some(wall), Some(rest)) = (
