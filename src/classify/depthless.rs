@@ -501,6 +501,9 @@ impl ColourSplit {
                         // Or Sa's own face, where Sa is the nearer side.
                         self.near_side_face(raw, rgb, labels, filled, v, (a, b));
                     }
+                    if labels[i] == DETACHED {
+                        self.remember_detached(raw, labels, &mut prefix.recent, v, (a, b));
+                    }
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }

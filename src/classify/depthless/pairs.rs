@@ -13,6 +13,11 @@
 //! the background right of it are read), and an occluder's hole may have a farther surface on
 //! its right (a rod before an object's edge): the background of its shadow is the one on its left.
 //!
+//! A shadow the scanline paired already (with a depthless rod's hole, which it leaves OTHER) is
+//! remembered too: a hole that casts it is an occluder whole, with no attached shadow in it for
+//! the colour split to find. Nor need an occluder's hole be closed by the background: a nearer
+//! surface may close it, one the occluder stands before.
+//!
 //! Holes are met left to right, so each one is tried as the occluder of the recent holes of its
 //! row: no search along the row, which keeps the many holes of a real frame cheap.
 
@@ -42,12 +47,16 @@ const RECENT: usize = 8;
 
 /// A hole `[a, b)` closed on both sides by one background, raw value `bg`; or, as a shadow, closed
 /// by it on the right only, a nearer surface on its left hiding the shadow's start (`hidden`).
+/// `cast`: the scanline read it as a detached shadow already. `before`: as an occluder's hole,
+/// the raw value of a nearer surface closing it on the right, which the occluder stands before.
 #[derive(Clone, Copy, Debug, Default)]
 struct Closed {
     a: usize,
     b: usize,
     bg: u16,
     hidden: bool,
+    cast: bool,
+    before: Option<u16>,
 }
 
 /// The last few closed holes of the row being scanned (scratch, reused).
@@ -59,6 +68,13 @@ pub(super) struct Recent {
 }
 
 impl Recent {
+    /// Starts row `v` afresh, unless it is the row being scanned.
+    fn at_row(&mut self, v: usize) {
+        if self.row != v {
+            (self.row, self.len) = (v, 0);
+        }
+    }
+
     /// Remembers `h`, forgetting the oldest hole when full.
     fn push(&mut self, h: Closed) {
         if self.len == RECENT {
@@ -85,9 +101,7 @@ impl ColourSplit {
         v: usize,
         (a, b): (usize, usize),
     ) -> bool {
-        if recent.row != v {
-            (recent.row, recent.len) = (v, 0);
-        }
+        recent.at_row(v);
         let row = &raw[v * WIDTH..(v + 1) * WIDTH];
         // (A shadow whose start a nearer surface hides has a farther surface on its right, so
         // it is tried as an occluder's hole first, and remembered as a shadow below.)
@@ -99,10 +113,17 @@ impl ColourSplit {
             let Some(shift) = self.pair(h, o) else {
                 continue;
             };
-            if labels[v * WIDTH + h.a..v * WIDTH + h.b]
-                .iter()
-                .zip(&row[h.a..h.b])
-                .any(|(&l, &r)| r == NO_DEPTH && l != OTHER)
+            // A shadow the scanline paired may have a measured occluder, and so may one left of
+            // a hole a nearer surface closes: no nearer surface may stand between the holes.
+            let near = self.disp(h.bg).max(self.disp(o.bg)) + SAME_SURFACE;
+            if (h.cast || o.before.is_some())
+                && row[h.b..o.a]
+                    .iter()
+                    .any(|&r| r != NO_DEPTH && self.disp(r) > near)
+            {
+                continue;
+            }
+            if cast(labels, row, v, (h.a, h.b)) != Some(h.cast)
                 || !self.repeats(raw, v, h, o, shift)
                 || !self.colours_fit(raw, rgb, v, h, o, shift)
             {
@@ -120,9 +141,32 @@ impl ColourSplit {
         }
         // Remembered as a shadow for the holes right of it.
         if let Some(h) = self.shadow(row, (a, b)) {
-            recent.push(h);
+            if let Some(cast) = cast(labels, row, v, (a, b)) {
+                recent.push(Closed { cast, ..h });
+            }
         }
         false
+    }
+
+    /// Remembers the hole `[a, b)` of row `v`, which the scanline read as a detached shadow, for
+    /// the holes right of it: a depthless hole that casts it is that shadow's occluder, whole,
+    /// and no attached shadow for the colour split to find in it. (The scanline pairs such a
+    /// shadow with a depthless rod's hole, but labels only the shadow.)
+    pub(super) fn remember_detached(
+        &self,
+        raw: &[u16],
+        labels: &[u8],
+        recent: &mut Recent,
+        v: usize,
+        (a, b): (usize, usize),
+    ) {
+        recent.at_row(v);
+        let row = &raw[v * WIDTH..(v + 1) * WIDTH];
+        if let Some(h) = self.shadow(row, (a, b)) {
+            if cast(labels, row, v, (a, b)) == Some(true) {
+                recent.push(Closed { cast: true, ..h });
+            }
+        }
     }
 
     /// `[a, b)` as a closed hole: wide enough, with valid pixels of one depth on both sides.
@@ -132,7 +176,7 @@ impl ColourSplit {
             a,
             b,
             bg: l.max(r),
-            hidden: false,
+            ..Closed::default()
         })
     }
 
@@ -146,19 +190,30 @@ impl ColourSplit {
             b,
             bg: r,
             hidden: true,
+            ..Closed::default()
         })
     }
 
-    /// `[a, b)` as an occluder's hole: [`ColourSplit::closed`], or with a farther surface on its
-    /// right (a rod standing before an object's edge), the background of its shadow on its left.
+    /// `[a, b)` as an occluder's hole: [`ColourSplit::closed`], or closed on its right by another
+    /// surface, farther (a rod standing before an object's edge) or nearer (`before`): the
+    /// background of its shadow is then the one on its left.
     fn occluder(&self, row: &[u16], (a, b): (usize, usize)) -> Option<Closed> {
-        let (l, _, step) = self.sides(row, (a, b))?;
+        let (l, r, step) = self.sides(row, (a, b))?;
+        let background_left = Closed {
+            a,
+            b,
+            bg: l,
+            ..Closed::default()
+        };
         if step > SAME_SURFACE {
+            return Some(background_left);
+        }
+        // Or a nearer surface on its right, when the occluder stands before that surface too
+        // ([`ColourSplit::pair`] asks, knowing the occluder's depth).
+        if step < -SAME_SURFACE {
             return Some(Closed {
-                a,
-                b,
-                bg: l,
-                hidden: false,
+                before: Some(r),
+                ..background_left
             });
         }
         self.closed(row, (a, b))
@@ -187,11 +242,16 @@ impl ColourSplit {
     fn pair(&self, h: Closed, o: Closed) -> Option<usize> {
         let (hw, ow) = (h.b - h.a, o.b - o.a);
         let shift = o.b.checked_sub(h.b)?;
+        let at = self.disp(h.bg) + shift as f64;
+        // An occluder's hole closed by a nearer surface (a black rod before a box's edge) pairs
+        // only where the occluder stands before that surface.
+        let before_ok = o.before.is_none_or(|r| at > self.disp(r) + SAME_SURFACE);
         (h.b <= o.a
             && (hw + NARROWER >= ow || h.hidden)
             && hw <= ow + OVER
             && (self.disp(h.bg) - self.disp(o.bg)).abs() <= SAME_SURFACE
-            && self.disp(h.bg) + shift as f64 <= self.max_disp)
+            && at <= self.max_disp
+            && before_ok)
             .then_some(shift)
     }
 
@@ -207,7 +267,7 @@ impl ColourSplit {
             let (Some(h2), Some(o2)) = (self.shadow(row, hs), self.occluder(row, os)) else {
                 return false;
             };
-            self.pair(h2, o2)
+            self.pair(Closed { cast: h.cast, ..h2 }, o2)
                 .is_some_and(|t| t.abs_diff(shift) <= ROWS_AGREE)
         })
     }
@@ -270,10 +330,20 @@ impl ColourSplit {
         // The shadow's left third: the RGB camera may see a nearer occluder right of it moved
         // left over the rest. (The occluder's test above is what tells a shadow from a rod: a
         // thin rod's own hole shows background too, its image being moved left of it.)
-        let shadow_plain = (h.a..h.a + (h.b - h.a).div_ceil(3)).all(|u| {
+        // A shadow the scanline paired already is known by its geometry: three quarters of its
+        // third will do, as a dim background's camera noise strays past the step here and there.
+        let third = h.a..h.a + (h.b - h.a).div_ceil(3);
+        let n = third.len();
+        let mut plain = 0;
+        for u in third {
             let (x, y) = self.project(u as f64, v, h.bg);
-            colour_at(x, y).is_some_and(|p| hue_dist(p, bg) < step)
-        });
+            plain += usize::from(colour_at(x, y).is_some_and(|p| hue_dist(p, bg) < step));
+        }
+        let shadow_plain = if h.cast {
+            4 * plain >= 3 * n
+        } else {
+            plain == n
+        };
         // An occluder showing a colour the surface itself shows beside the pair is that surface:
         // two dropouts on a patterned glossy surface, the second on its other colour. The
         // surface's colours are read where no depthless occluder's image can lie over it (a
@@ -294,5 +364,25 @@ impl ColourSplit {
                 in_palette(&qs[..m], occluder, step)
             })
         }
+    }
+}
+
+/// How the scanline read the hole `[a, b)` of row `v`: as a detached shadow (true: three
+/// quarters of its pixels or more, a pixel or two of it left OTHER), or not at all (false: all
+/// OTHER); None when it read part of it otherwise, or as a shadow in part only.
+fn cast(labels: &[u8], row: &[u16], v: usize, (a, b): (usize, usize)) -> Option<bool> {
+    let (mut holes, mut detached, mut other) = (0, 0, 0);
+    for (&l, &r) in labels[v * WIDTH + a..v * WIDTH + b].iter().zip(&row[a..b]) {
+        holes += usize::from(r == NO_DEPTH);
+        detached += usize::from(r == NO_DEPTH && l == DETACHED);
+        other += usize::from(r == NO_DEPTH && l == OTHER);
+    }
+    if detached + other != holes {
+        return None;
+    }
+    match detached {
+        0 => Some(false),
+        d if 4 * d >= 3 * holes => Some(true),
+        _ => None,
     }
 }
