@@ -5582,3 +5582,68 @@ fn black_rod_before_a_boxs_edge_is_its_detached_shadows_occluder_whole() {
         );
     }
 }
+
+#[test]
+fn black_rods_hole_run_into_another_rods_shadow_still_pairs_with_its_own_shadow() {
+    // A pale wall at 2 m; black rod A, r = 1.5 cm at x = 0, 0.8 m; black rod B, r = 1.2 cm at
+    // 0.6 m, x = 0.0757 m. By hand A spans cx ± fx·0.015/0.8 = ±10.9 px and casts its shadow
+    // f·b·(1/0.8 − 1/2) = 32.8 px further left, cx − 43.7..cx − 21.9 (detached). B spans
+    // cx + 73.5 ± 11.65 px and casts its shadow f·b·(1/0.6 − 1/2) = 51.0 px left, from
+    // cx + 10.9: right where A's hole ends. So A's hole runs on into B's shadow, one hole of
+    // 45 px that no 22 px shadow pairs with, and A's shadow was OTHER in every row.
+    let calib = Calibration::nyu_default();
+    let (cx, fx, fb) = (calib.depth.cx, calib.depth.fx, calib.fb());
+    let (a_half, a_shift) = (fx * 0.015 / 0.8, fb * (1.0 / 0.8 - 1.0 / 2.0));
+    let (b_left, b_shift) = (fx * (0.0757 - 0.012) / 0.6, fb * (1.0 / 0.6 - 1.0 / 2.0));
+    assert!(
+        (b_left - b_shift - a_half).abs() < 0.5,
+        "B's shadow starts where A ends"
+    );
+    let shadow = (cx - a_half - a_shift).ceil() as usize + 1..(cx + a_half - a_shift) as usize - 1;
+    let mut scene = Scene::new("a black rod whose hole runs into another rod's shadow");
+    let plane = umbra::synth::Shape::Plane {
+        normal: umbra::synth::V3::new(0.0, 0.0, -1.0),
+        offset: -2.0,
+    };
+    scene.push(
+        "wall",
+        plane,
+        umbra::synth::Material::matte([0.75, 0.72, 0.62]),
+    );
+    for (x, z, r) in [(0.0, 0.8, 0.015), (0.0757, 0.6, 0.012)] {
+        let rod = umbra::synth::Shape::Cylinder {
+            centre: umbra::synth::V3::new(x, 0.0, z),
+            axis: umbra::synth::V3::new(0.0, 1.0, 0.0),
+            radius: r,
+            half_len: 3.0,
+        };
+        scene.push("rod", rod, umbra::synth::Material::black());
+    }
+    let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 3);
+    let out = classify_rgb(&calib, &frame);
+    let (mut rows, mut truth, mut found, mut wrong) = (0, 0, 0, 0);
+    for v in 100..380 {
+        let row = v * WIDTH;
+        let count =
+            |labels: &[u8], code| shadow.clone().filter(|&u| labels[row + u] == code).count();
+        // The simulator's shadow lies where the hand computation puts it, and the holes merge.
+        let merged = ((cx + a_half) as usize..(cx + a_half) as usize + 20)
+            .all(|u| frame.raw[row + u] == NO_DEPTH);
+        if count(&frame.ir_labels, DETACHED) < shadow.len() || !merged {
+            continue;
+        }
+        rows += 1;
+        truth += shadow.len();
+        found += count(&out.ir_labels, DETACHED);
+        wrong += ((cx - a_half) as usize + 1..(cx + a_half) as usize)
+            .filter(|&u| out.ir_labels[row + u] == DETACHED)
+            .count();
+    }
+    assert!(rows >= 200, "the scene has the merged holes in {rows} rows");
+    let recall = found as f64 / truth as f64;
+    assert!(
+        recall >= 0.9,
+        "detached recall {recall:.3} over {rows} rows"
+    );
+    assert_eq!(wrong, 0, "pixels of rod A read as a shadow");
+}

@@ -16,7 +16,9 @@
 //! A shadow the scanline paired already (with a depthless rod's hole, which it leaves OTHER) is
 //! remembered too: a hole that casts it is an occluder whole, with no attached shadow in it for
 //! the colour split to find. Nor need an occluder's hole be closed by the background: a nearer
-//! surface may close it, one the occluder stands before.
+//! surface may close it, one the occluder stands before; or it may run on into another hole (a
+//! nearer rod's shadow), when the RGB camera sees the occluder end where its shadow's width
+//! does.
 //!
 //! Holes are met left to right, so each one is tried as the occluder of the recent holes of its
 //! row: no search along the row, which keeps the many holes of a real frame cheap.
@@ -49,6 +51,7 @@ const RECENT: usize = 8;
 /// by it on the right only, a nearer surface on its left hiding the shadow's start (`hidden`).
 /// `cast`: the scanline read it as a detached shadow already. `before`: as an occluder's hole,
 /// the raw value of a nearer surface closing it on the right, which the occluder stands before.
+/// `cut`: as an occluder's hole, the part of a wider hole its shadow's width leaves it.
 #[derive(Clone, Copy, Debug, Default)]
 struct Closed {
     a: usize,
@@ -57,6 +60,7 @@ struct Closed {
     hidden: bool,
     cast: bool,
     before: Option<u16>,
+    cut: bool,
 }
 
 /// The last few closed holes of the row being scanned (scratch, reused).
@@ -105,11 +109,12 @@ impl ColourSplit {
         let row = &raw[v * WIDTH..(v + 1) * WIDTH];
         // (A shadow whose start a nearer surface hides has a farther surface on its right, so
         // it is tried as an occluder's hole first, and remembered as a shadow below.)
-        let Some(o) = self.occluder(row, (a, b)) else {
+        let Some(whole) = self.occluder(row, (a, b)) else {
             return false;
         };
         for k in (0..recent.len).rev() {
             let h = recent.holes[k];
+            let o = self.cut_to(h, whole);
             let Some(shift) = self.pair(h, o) else {
                 continue;
             };
@@ -255,6 +260,22 @@ impl ColourSplit {
             .then_some(shift)
     }
 
+    /// `o` cut to the width of shadow `h` where it is wider than the widening allows: a
+    /// depthless occluder's hole run on into another hole right of it (another object's shadow).
+    fn cut_to(&self, h: Closed, o: Closed) -> Closed {
+        let (hw, ow) = (h.b - h.a, o.b - o.a);
+        if !h.hidden && ow > hw + NARROWER + OVER {
+            Closed {
+                b: o.a + hw,
+                before: None,
+                cut: true,
+                ..o
+            }
+        } else {
+            o
+        }
+    }
+
     /// The rows above and below hold the same pair: closed holes through both centres, shifted
     /// alike.
     fn repeats(&self, raw: &[u16], v: usize, h: Closed, o: Closed, shift: usize) -> bool {
@@ -267,7 +288,7 @@ impl ColourSplit {
             let (Some(h2), Some(o2)) = (self.shadow(row, hs), self.occluder(row, os)) else {
                 return false;
             };
-            self.pair(Closed { cast: h.cast, ..h2 }, o2)
+            self.pair(Closed { cast: h.cast, ..h2 }, self.cut_to(h2, o2))
                 .is_some_and(|t| t.abs_diff(shift) <= ROWS_AGREE)
         })
     }
@@ -351,8 +372,15 @@ impl ColourSplit {
         // (Fourth simulator, 46 suites: simple IR detached F1 +0.037 summed, j19 +0.030,
         // precision +0.012; complex +0.013, precision +0.0065; this project's suites up to
         // +0.009, the real frame unchanged.)
-        shadow_plain && {
-            let occluder = acc.map(|a| a / cols as i32);
+        let occluder = acc.map(|a| a / cols as i32);
+        // A cut occluder ends where the cut puts it: the RGB camera sees something else there.
+        let ends = !o.cut || {
+            let past = (x1..x1 + 3)
+                .filter(|&x| colour_at(x as f64, y).is_some_and(|p| hue_dist(p, occluder) >= step))
+                .count();
+            past >= 2
+        };
+        shadow_plain && ends && {
             let row = &raw[v * WIDTH..(v + 1) * WIDTH];
             let clear = ((self.max_disp - self.disp(h.bg)) / 3.0).ceil() as usize;
             let beside = [
