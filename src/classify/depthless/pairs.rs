@@ -27,7 +27,7 @@ use super::{
     ceil, hole_span, hue_dist, in_palette, rgb_at, ColourSplit, COLOUR_STEP, SAME_SURFACE, SIDE,
     SIDES_AGREE, SPREAD_SPAN,
 };
-use crate::labels::{DETACHED, NO_DEPTH, OTHER, WIDTH};
+use crate::labels::{DETACHED, NO_DEPTH, OTHER, VALID, WIDTH};
 
 /// Narrowest shadow and occluder holes considered (pixels), as the scanline's.
 const MIN_WIDTH: usize = 3;
@@ -128,7 +128,7 @@ impl ColourSplit {
             {
                 continue;
             }
-            if cast(labels, row, v, (h.a, h.b)) != Some(h.cast)
+            if cast(labels, v, (h.a, h.b)) != Some(h.cast)
                 || !self.repeats(raw, v, h, o, shift)
                 || !self.colours_fit(raw, rgb, v, h, o, shift)
             {
@@ -146,7 +146,7 @@ impl ColourSplit {
         }
         // Remembered as a shadow for the holes right of it.
         if let Some(h) = self.shadow(row, (a, b)) {
-            if let Some(cast) = cast(labels, row, v, (a, b)) {
+            if let Some(cast) = cast(labels, v, (a, b)) {
                 recent.push(Closed { cast, ..h });
             }
         }
@@ -168,7 +168,7 @@ impl ColourSplit {
         recent.at_row(v);
         let row = &raw[v * WIDTH..(v + 1) * WIDTH];
         if let Some(h) = self.shadow(row, (a, b)) {
-            if cast(labels, row, v, (a, b)) == Some(true) {
+            if cast(labels, v, (a, b)) == Some(true) {
                 recent.push(Closed { cast: true, ..h });
             }
         }
@@ -288,7 +288,7 @@ impl ColourSplit {
             let (Some(h2), Some(o2)) = (self.shadow(row, hs), self.occluder(row, os)) else {
                 return false;
             };
-            self.pair(Closed { cast: h.cast, ..h2 }, self.cut_to(h2, o2))
+            self.pair(h2, self.cut_to(h2, o2))
                 .is_some_and(|t| t.abs_diff(shift) <= ROWS_AGREE)
         })
     }
@@ -398,13 +398,16 @@ impl ColourSplit {
 /// How the scanline read the hole `[a, b)` of row `v`: as a detached shadow (true: three
 /// quarters of its pixels or more, a pixel or two of it left OTHER), or not at all (false: all
 /// OTHER); None when it read part of it otherwise, or as a shadow in part only.
-fn cast(labels: &[u8], row: &[u16], v: usize, (a, b): (usize, usize)) -> Option<bool> {
-    let (mut holes, mut detached, mut other) = (0, 0, 0);
-    for (&l, &r) in labels[v * WIDTH + a..v * WIDTH + b].iter().zip(&row[a..b]) {
-        holes += usize::from(r == NO_DEPTH);
-        detached += usize::from(r == NO_DEPTH && l == DETACHED);
-        other += usize::from(r == NO_DEPTH && l == OTHER);
+fn cast(labels: &[u8], v: usize, (a, b): (usize, usize)) -> Option<bool> {
+    // A hole's lit islands are VALID, its pixels anything else: one pass over the labels alone
+    // (the compiler vectorises it), no raw values.
+    let (mut valid, mut detached, mut other) = (0, 0, 0);
+    for &l in &labels[v * WIDTH + a..v * WIDTH + b] {
+        valid += usize::from(l == VALID);
+        detached += usize::from(l == DETACHED);
+        other += usize::from(l == OTHER);
     }
+    let holes = b - a - valid;
     if detached + other != holes {
         return None;
     }
