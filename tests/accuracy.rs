@@ -8,6 +8,7 @@
 use umbra::classify::{Classified, Classifier};
 use umbra::eval::Confusion;
 use umbra::labels::{ALIGNMENT, ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
+use umbra::synth::scene::{vertical_rod, wall};
 use umbra::synth::{
     random_scene, render_frame, sensor_for, Category, Scene, SensorModel, SynthFrame,
 };
@@ -324,18 +325,10 @@ fn glossy_rods_detached_shadow_is_found_where_its_limb_returns_depth() {
     let shift = calib.fb() * (1.0 / 0.7 - 1.0 / 2.1);
     assert!((41.0..42.0).contains(&shift), "shift {shift}");
     let mut scene = Scene::new("a glossy rod with a measured limb before a wall");
-    let cylinder = |x: f64, radius: f64| umbra::synth::Shape::Cylinder {
-        centre: umbra::synth::V3::new(x, 0.0, 0.7),
-        axis: umbra::synth::V3::new(0.0, 1.0, 0.0),
-        radius,
-        half_len: 3.0,
-    };
+    let cylinder = |x: f64, radius: f64| vertical_rod(x, 0.7, radius);
     scene.push(
         "wall",
-        umbra::synth::Shape::Plane {
-            normal: umbra::synth::V3::new(0.0, 0.0, -1.0),
-            offset: -2.1,
-        },
+        wall(2.1),
         umbra::synth::Material::matte([0.8, 0.78, 0.7]),
     );
     let colour = [0.6, 0.55, 0.3];
@@ -5507,22 +5500,16 @@ fn black_rod_before_a_boxs_edge_is_its_detached_shadows_occluder_whole() {
     let rod = (cx - half).ceil() as usize..(cx + half) as usize;
     let shadow = (cx - half - shift).ceil() as usize..(cx + half - shift) as usize;
     let mut scene = Scene::new("a black rod before a box's edge, before a wall");
-    let plane = umbra::synth::Shape::Plane {
-        normal: umbra::synth::V3::new(0.0, 0.0, -1.0),
-        offset: -2.2,
-    };
     scene.push(
         "wall",
-        plane,
+        wall(2.2),
         umbra::synth::Material::matte([0.09, 0.39, 0.42]),
     );
-    let rod_shape = umbra::synth::Shape::Cylinder {
-        centre: umbra::synth::V3::new(0.0, 0.0, 0.61),
-        axis: umbra::synth::V3::new(0.0, 1.0, 0.0),
-        radius: 0.021,
-        half_len: 3.0,
-    };
-    scene.push("rod", rod_shape, umbra::synth::Material::black());
+    scene.push(
+        "rod",
+        vertical_rod(0.0, 0.61, 0.021),
+        umbra::synth::Material::black(),
+    );
     let stripe = umbra::synth::Shape::Box {
         centre: umbra::synth::V3::new(0.01, 0.0, 2.195),
         half: umbra::synth::V3::new(0.07, 3.0, 0.004),
@@ -5601,23 +5588,17 @@ fn black_rods_hole_run_into_another_rods_shadow_still_pairs_with_its_own_shadow(
     );
     let shadow = (cx - a_half - a_shift).ceil() as usize + 1..(cx + a_half - a_shift) as usize - 1;
     let mut scene = Scene::new("a black rod whose hole runs into another rod's shadow");
-    let plane = umbra::synth::Shape::Plane {
-        normal: umbra::synth::V3::new(0.0, 0.0, -1.0),
-        offset: -2.0,
-    };
     scene.push(
         "wall",
-        plane,
+        wall(2.0),
         umbra::synth::Material::matte([0.75, 0.72, 0.62]),
     );
     for (x, z, r) in [(0.0, 0.8, 0.015), (0.0757, 0.6, 0.012)] {
-        let rod = umbra::synth::Shape::Cylinder {
-            centre: umbra::synth::V3::new(x, 0.0, z),
-            axis: umbra::synth::V3::new(0.0, 1.0, 0.0),
-            radius: r,
-            half_len: 3.0,
-        };
-        scene.push("rod", rod, umbra::synth::Material::black());
+        scene.push(
+            "rod",
+            vertical_rod(x, z, r),
+            umbra::synth::Material::black(),
+        );
     }
     let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 3);
     let out = classify_rgb(&calib, &frame);

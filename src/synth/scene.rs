@@ -76,6 +76,17 @@ pub fn wall(z_wall: f64) -> Shape {
     }
 }
 
+/// A vertical rod: a cylinder of `radius` with its axis at `(x, ·, z)`, long enough to cross the
+/// whole image.
+pub fn vertical_rod(x: f64, z: f64, radius: f64) -> Shape {
+    Shape::Cylinder {
+        centre: V3::new(x, 0.0, z),
+        axis: V3::new(0.0, 1.0, 0.0),
+        radius,
+        half_len: 3.0,
+    }
+}
+
 /// A wall through `(0, 0, z_wall)` turned by `yaw` about the vertical axis (positive: its right
 /// side recedes).
 pub fn slanted_wall(z_wall: f64, yaw: f64) -> Shape {
@@ -178,12 +189,7 @@ impl Scene {
         s.push("wall", wall(z_wall), Material::matte([0.8, 0.78, 0.7]));
         s.push(
             "rod",
-            Shape::Cylinder {
-                centre: V3::new(x, 0.0, z_rod),
-                axis: V3::new(0.0, 1.0, 0.0),
-                radius,
-                half_len: 3.0,
-            },
+            vertical_rod(x, z_rod, radius),
             Material::matte([0.6, 0.6, 0.65]),
         );
         s
