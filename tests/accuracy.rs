@@ -5628,3 +5628,80 @@ fn black_rods_hole_run_into_another_rods_shadow_still_pairs_with_its_own_shadow(
     );
     assert_eq!(wrong, 0, "pixels of rod A read as a shadow");
 }
+
+#[test]
+fn rods_attached_shadow_leaves_the_part_a_nearer_box_shades_to_the_box() {
+    // A pale wall at 2 m; a matte rod, r = 2 cm at x = 0, 1.2 m; a box at 0.8 m whose left face
+    // starts 14 px right of the image centre. By hand the rod spans cx ± fx·0.02/1.2 = ±9.7 px
+    // and its shadow on the wall lies f·b·(1/1.2 − 1/2) = 14.6 px further left: cx − 24.3 ..
+    // cx − 9.7, beside it. The box shades the rod from cx + 14 − f·b·(1/0.8 − 1/1.2) = cx − 4.2
+    // (a lit strip of rod 5.5 px wide is left), and the wall from cx + 14 − f·b·(1/0.8 − 1/2) =
+    // cx − 18.8: across the rod and into the rod's own shadow. There the projector's ray meets
+    // the box first: cx − 18.8 .. cx − 9.7 is the box's detached shadow, and one hole of 14.6 px
+    // eq. (3) fits for the rod was read attached from end to end.
+    let calib = Calibration::nyu_default();
+    let (cx, fx, fb) = (calib.depth.cx, calib.depth.fx, calib.fb());
+    let rod_left = cx - fx * 0.02 / 1.2;
+    let box_left = cx + 14.0;
+    let box_from = box_left - fb * (1.0 / 0.8 - 1.0 / 2.0);
+    let strip_ends = box_left - fb * (1.0 / 0.8 - 1.0 / 1.2);
+    assert!(
+        box_from < rod_left - 5.0 && strip_ends > rod_left + 4.0,
+        "the box's shadow reaches past a lit strip of the rod"
+    );
+    let detached = box_from.ceil() as usize + 1..rod_left as usize - 1;
+    let attached = (rod_left - fb * (1.0 / 1.2 - 1.0 / 2.0)).ceil() as usize..box_from as usize - 1;
+    let mut scene = Scene::new("a rod before a wall, a box's shadow across it");
+    scene.push(
+        "wall",
+        wall(2.0),
+        umbra::synth::Material::matte([0.75, 0.72, 0.62]),
+    );
+    scene.push(
+        "rod",
+        vertical_rod(0.0, 1.2, 0.02),
+        umbra::synth::Material::matte([0.3, 0.4, 0.7]),
+    );
+    // A thin board, so the camera sees next to nothing of its left side.
+    let (half, thick) = (0.15, 0.01);
+    scene.push(
+        "box",
+        umbra::synth::Shape::Box {
+            centre: umbra::synth::V3::new(14.0 / fx * 0.8 + half, 0.0, 0.8 + thick),
+            half: umbra::synth::V3::new(half, 0.4, thick),
+            yaw: 0.0,
+        },
+        umbra::synth::Material::matte([0.8, 0.3, 0.2]),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 4);
+    let out = classify_rgb(&calib, &frame);
+    let (mut rows, mut truth, mut found, mut kept, mut att) = (0, 0, 0, 0, 0);
+    for v in 60..420 {
+        let row = v * WIDTH;
+        let count = |labels: &[u8], cols: &std::ops::Range<usize>, code| {
+            cols.clone().filter(|&u| labels[row + u] == code).count()
+        };
+        // The simulator puts both shadows where the hand computation does.
+        if count(&frame.ir_labels, &detached, DETACHED) < detached.len()
+            || count(&frame.ir_labels, &attached, ATTACHED) < attached.len()
+        {
+            continue;
+        }
+        rows += 1;
+        truth += detached.len();
+        found += count(&out.ir_labels, &detached, DETACHED);
+        att += attached.len();
+        kept += count(&out.ir_labels, &attached, ATTACHED);
+    }
+    assert!(rows >= 250, "the scene shows both shadows in {rows} rows");
+    let recall = found as f64 / truth as f64;
+    assert!(
+        recall >= 0.9,
+        "detached recall {recall:.3} over {rows} rows"
+    );
+    let attached_recall = kept as f64 / att as f64;
+    assert!(
+        attached_recall >= 0.9,
+        "attached recall {attached_recall:.3} over {rows} rows"
+    );
+}

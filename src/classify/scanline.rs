@@ -1001,6 +1001,11 @@ fn classify_bounded(
             return;
         }
         label_attached(p, raw, h, w, rows, labels);
+        if fits3 && labels[h.start] == ATTACHED && labels[h.end - 1] == ATTACHED {
+            if let Some(from) = nearer_shadow_past_sb(p, raw, h, sa) {
+                set(labels, raw, from, h.end, DETACHED);
+            }
+        }
         // Too wide for Sb's shadow on Sa, the hole may be Sb's shadow on a background Sa hides
         // (below), but a thin occluder further right whose shadow it fits by eqs. (4)–(5) says
         // more: only a detached shadow fits both its ends (a rod's shadow on a box's face, beside
@@ -1841,6 +1846,44 @@ fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, rows: Rows, label
         };
         set(labels, raw, h.start, h.end, code);
     }
+}
+
+/// Where, inside the hole `h` that eq. (3) fits, the shadow of a nearer surface X right of Sb
+/// begins: Sb is a strip of some surface, then comes the hole X's attached shadow makes on that
+/// strip, then X. X's shadow on Sa's surface starts `disp(X) − disp(Sa)` pixels left of X's edge
+/// (eq. 3 again); where that lies inside the hole, the projector's ray meets X before Sb, so
+/// that part is X's detached shadow (`umbra synth` labels a pixel by the first object on the
+/// projector's ray), the rest Sb's attached one. Without this, a thin rod's attached shadow
+/// swallows the detached shadow of the box behind it.
+fn nearer_shadow_past_sb(p: &ScanParams, raw: &[u16], h: Run, sa: Bound) -> Option<usize> {
+    // The strip: Sb's surface, pixel to pixel without a depth edge.
+    let mut q = h.end + 1;
+    while q < raw.len() && raw[q] != NO_DEPTH && raw[q].abs_diff(raw[q - 1]) <= p.edge_raw {
+        q += 1;
+    }
+    let gap = q;
+    let strip = raw[gap - 1];
+    while q < raw.len() && raw[q] == NO_DEPTH {
+        q += 1;
+    }
+    // Without a hole between, a nearer X right of the strip is more often the same object
+    // turning towards the camera (a slanted face's steps) than an occluder standing in front.
+    if q >= raw.len() || q == gap {
+        return None;
+    }
+    // X stands before the strip, and the hole between is no wider than X's attached shadow
+    // on it (eq. 3).
+    let x = raw[q];
+    let on_strip = p.disp(x) - p.disp(strip);
+    if on_strip < p.min_step || (q - gap) as f32 > on_strip + p.over {
+        return None;
+    }
+    // Eq. (3) for X over Sa: where X's shadow on Sa's surface begins.
+    let from = q as f32 - (p.disp(x) - p.disp(sa.far));
+    if from <= h.start as f32 || from >= h.end as f32 {
+        return None;
+    }
+    Some(from.round() as usize)
 }
 
 /// True when the hole `h`, left of a thin occluder (Sb), is the detached shadow of an object
@@ -4831,7 +4874,9 @@ mod tests {
         // Had the rod gone on behind that hole, the box's shadow on the rod would be only
         // f·b·(1/1 − 1/1.645) = 17.1 px wide: a hole [310, 336) is wider (by more than the
         // widening), so the rod ends at 310 and is thin: detached. A hole [310, 328) could be
-        // the box's shadow on a wider rod: nothing tells, and it stays attached.
+        // the box's shadow on a wider rod: nothing tells, and it stays attached, but for its
+        // last pixel: the box's shadow on the wall starts at 328 − 29.1 = 298.9, and there the
+        // projector's ray meets the box first (`nearer_shadow_past_sb`).
         let (c, p) = params();
         for (zc, code) in [(336, DETACHED), (328, ATTACHED)] {
             let mut raw = vec![raw_at(&c, 3.0); PIXELS];
@@ -4845,11 +4890,15 @@ mod tests {
             let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
             classify_frame(&p, &raw, &mut labels, &mut filled);
             for v in [101, 229, 479] {
-                let hole = &labels[v * WIDTH + 288..v * WIDTH + 300];
+                let to = if code == ATTACHED { 298 } else { 300 };
+                let hole = &labels[v * WIDTH + 288..v * WIDTH + to];
                 assert!(
                     hole.iter().all(|&l| l == code),
                     "zc {zc}, row {v}: {hole:?}"
                 );
+                if code == ATTACHED {
+                    assert_eq!(labels[v * WIDTH + 299], DETACHED, "zc {zc}, row {v}");
+                }
             }
         }
     }
