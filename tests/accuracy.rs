@@ -8,7 +8,7 @@
 use umbra::classify::{Classified, Classifier};
 use umbra::eval::Confusion;
 use umbra::labels::{ALIGNMENT, ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
-use umbra::synth::scene::{vertical_rod, wall};
+use umbra::synth::scene::{slanted_wall, vertical_rod, wall};
 use umbra::synth::{
     random_scene, render_frame, sensor_for, Category, Scene, SensorModel, SynthFrame,
 };
@@ -5703,5 +5703,66 @@ fn rods_attached_shadow_leaves_the_part_a_nearer_box_shades_to_the_box() {
     assert!(
         attached_recall >= 0.9,
         "attached recall {attached_recall:.3} over {rows} rows"
+    );
+}
+
+#[test]
+fn wall_beyond_the_range_past_a_black_rod_is_no_alignment_shadow() {
+    // A pale wall through (0, 0, 3.57 m) turned by −0.64 rad, its left side receding: along
+    // the ray of column u it lies at z = 3.57 / (1 − tan(−0.64)·(u − cx)/fx), which passes the
+    // sensor's 4.5 m at u = cx + fx·(3.57/4.5 − 1)/0.745 = cx − 161.6: left of that the IR
+    // camera measures nothing, the wall beyond its range. A black rod, r = 2 cm at 1.94 m,
+    // stands in that region with its right edge 15 px left of where the wall leaves the range.
+    // The RGB camera sees the wall, in its own colour, from the rod up to the measured part:
+    // the wall beyond range (OTHER), not a strip the rod hides from the IR camera. Read as
+    // that strip, the wall was an alignment shadow in every row twice over: the colour split
+    // placed the hole at the depth the strip's width gives a rod whose edge is the hole's
+    // (about 0.65 m), and the warp's colour reading took the strip for one on its own.
+    let calib = Calibration::nyu_default();
+    let (cx, fx) = (calib.depth.cx, calib.depth.fx);
+    let (z0, yaw) = (3.57, -0.64_f64);
+    let leaves = cx + fx * (z0 / 4.5 - 1.0) / -yaw.tan();
+    let rod_right = leaves - 15.0;
+    let (z_rod, r) = (1.94, 0.02);
+    let x_rod = (rod_right - cx) / fx * z_rod - r;
+    let mut scene = Scene::new("a black rod before a wall that leaves the range on the left");
+    scene.push(
+        "wall",
+        slanted_wall(z0, yaw),
+        umbra::synth::Material::matte([0.75, 0.74, 0.70]),
+    );
+    scene.push(
+        "rod",
+        vertical_rod(x_rod, z_rod, r),
+        umbra::synth::Material::black(),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 6);
+    // The simulator's wall leaves the range where the hand computation says.
+    for v in [100, 240, 380] {
+        let first = (0..WIDTH)
+            .find(|&u| frame.ir_labels[v * WIDTH + u] == VALID)
+            .unwrap();
+        assert!(
+            (first as f64 - leaves).abs() <= 2.0,
+            "row {v}: the wall is measured from {first}, by hand from {leaves:.1}"
+        );
+    }
+    let out = classify_rgb(&calib, &frame);
+    let rows = 60..420;
+    let count = |labels: &[u8], code| {
+        rows.clone()
+            .flat_map(|v| v * WIDTH..(v + 1) * WIDTH)
+            .filter(|&i| labels[i] == code)
+            .count()
+    };
+    assert_eq!(
+        count(&frame.rgb_labels, ALIGNMENT),
+        0,
+        "the scene has no alignment shadow"
+    );
+    let wrong = count(&out.rgb_labels, ALIGNMENT);
+    assert!(
+        wrong <= rows.len(),
+        "{wrong} pixels of the wall beyond the range read as alignment shadow"
     );
 }

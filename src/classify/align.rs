@@ -108,6 +108,8 @@ pub struct Warp {
     /// Pixels the sensor's widening adds to a hole's end in the current frame
     /// ([`FrameFacts::left_widening`](super::scanline::FrameFacts::left_widening)).
     widening: f64,
+    /// Depth (mm) from which a surface counts as at the range's end ([`Warp::set_range_end`]).
+    range_end_mm: u16,
     /// Per RGB row, the IR view's left edge: the first column any IR pixel landed in, or
     /// [`Self::fov_past_near`]'s where that lies further right.
     fov_start: Vec<u16>,
@@ -167,6 +169,7 @@ impl Warp {
             parity: (0..WIDTH).map(|u| ((u & 1) as u32) << LABEL_BITS).collect(),
             noise_scale: 64,
             widening: 0.0,
+            range_end_mm: u16::MAX,
             fov_start: vec![0; HEIGHT],
             fov_past_near: vec![0; HEIGHT],
             reach: super::unseen::Reach {
@@ -185,6 +188,18 @@ impl Warp {
     /// ([`FrameFacts::left_widening`](super::scanline::FrameFacts::left_widening)); 0 until set.
     pub fn set_widening(&mut self, px: f64) {
         self.widening = px;
+    }
+
+    /// Sets where the sensor's range ends in the frames to come (raw value,
+    /// [`Range::limit`](super::scanline::Range::limit)); never until set.
+    pub fn set_range_end(&mut self, limit: u16) {
+        let iz = self.iz_offset
+            + self.iz_scale * f32::from(limit.saturating_sub(super::depthless::RANGE_END));
+        self.range_end_mm = if iz > 0.0 {
+            (1000.0 / iz).min(f32::from(u16::MAX)) as u16
+        } else {
+            u16::MAX
+        };
     }
 
     /// `step` for a far surface of colour `bg` ([`dimmed`]) and the frame's camera noise.
@@ -330,8 +345,12 @@ impl Warp {
         self.zbuf[PIXELS - WIDTH..].fill(EMPTY);
         if let Some(colour) = colour {
             let (fov, reach) = (&self.fov_start, self.reach);
-            let (scale, widening) = (self.noise_scale, self.widening);
-            super::unseen::open_gaps(rgb, mm, colour, fov, reach, scale, widening);
+            let sensor = super::unseen::Sensor {
+                noise_scale: self.noise_scale,
+                widening: self.widening,
+                range_end_mm: self.range_end_mm,
+            };
+            super::unseen::open_gaps(rgb, mm, colour, fov, reach, sensor);
         }
     }
 

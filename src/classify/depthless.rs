@@ -75,6 +75,9 @@ const MIN_OPEN_SHADOW: usize = 4;
 /// six (among them one made after the change), −0.0001 on two; at 2, +0.0156 and +0.0016 on the
 /// first two.
 const RANGE_MARGIN: u16 = 1;
+/// Raw units short of the range's limit at which a surface counts as at the range's end: the
+/// last pixels of a surface receding out of range scatter that far below the limit.
+pub(crate) const RANGE_END: u16 = 3;
 /// Background samples taken on each side of the hole (IR pixels).
 const SIDE: usize = 4;
 /// Most pixels beside a hole a surface's slope is read over.
@@ -646,7 +649,17 @@ impl ColourSplit {
                         .flatten()
                     {
                         let at = self.raw_at_disp(self.disp(raw[v * WIDTH + b]) + shift as f64);
-                        filled[v * WIDTH + a..v * WIDTH + b].fill(at);
+                        // A hole from the left border to a surface at the range's end may be
+                        // that surface running on beyond the range, a rod standing in it: the
+                        // rod's edge would read as a near occluder's, and the wall between it
+                        // and the measured part as its alignment shadow.
+                        let bg = raw[v * WIDTH + b];
+                        let beyond = a == 0
+                            && bg >= range.limit.saturating_sub(RANGE_END)
+                            && self.hole_shows_background(rgb, v, (a, b), (at, bg), shift);
+                        if !beyond {
+                            filled[v * WIDTH + a..v * WIDTH + b].fill(at);
+                        }
                     }
                 }
                 if let Some((c, (s, shift))) = split {
@@ -1479,6 +1492,42 @@ impl ColourSplit {
             (0..3).for_each(|k| sum[k] += p[k]);
         }
         Some(sum.map(|s| s / us.len() as i32))
+    }
+
+    /// True when the RGB camera, looking at the hole `[a, b)` of row `v` as if an occluder at
+    /// raw value `at` (`shift` px before the surface right of it, raw `bg`) stood there, sees
+    /// that surface's colour over more of it than the occluder's attached shadow could cover
+    /// (eq. 3 with the sensor's widening): then the hole is mostly that surface unmeasured (a
+    /// wall running on beyond the range, shaded as it recedes) with an occluder somewhere in it
+    /// at most, not an occluder and its shadow. A column shows the surface when its colour is
+    /// nearer the surface's than the occluder's (read a few columns in from the hole's end).
+    fn hole_shows_background(
+        &self,
+        rgb: &[u8],
+        v: usize,
+        (a, b): (usize, usize),
+        (at, bg): (u16, u16),
+        shift: usize,
+    ) -> bool {
+        const STEP: usize = 2;
+        let shadow = shift as f64 + self.over + self.widen;
+        if ((b - a) as f64) <= shadow {
+            return false;
+        }
+        let wall = (b + SIDE <= WIDTH)
+            .then(|| self.mean_colour(rgb, v, b..b + SIDE, bg))
+            .flatten();
+        // A few columns in from the occluder's right edge, which the reading places to ±2 px.
+        let inside = (b - 4).max(a);
+        let (Some(wall), Some(occluder)) = (wall, self.probe(rgb, inside, v, at)) else {
+            return false;
+        };
+        let like = (a..b)
+            .step_by(STEP)
+            .filter_map(|u| self.probe(rgb, u, v, at))
+            .filter(|&c| hue_dist(c, wall) < hue_dist(c, occluder))
+            .count();
+        (STEP * like) as f64 > shadow
     }
 
     /// The mean colour of the three RGB columns nearest IR pixel (`u`, `v`) seen at raw value

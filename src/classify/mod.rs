@@ -119,6 +119,7 @@ impl Classifier {
                 .apply(raw, rgb, facts, &mut out.ir_labels, &mut self.filled);
             self.warp.set_noise_scale(self.colour.noise_scale());
             self.warp.set_widening(facts.left_widening);
+            self.warp.set_range_end(facts.range.limit);
         }
         consensus::settle(&mut out.ir_labels);
         bands::bridge_detached(&mut out.ir_labels);

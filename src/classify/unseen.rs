@@ -46,12 +46,22 @@ impl Reach {
     }
 }
 
+/// What a frame says about its sensor, for [`open_gaps`].
+#[derive(Clone, Copy, Debug)]
+pub struct Sensor {
+    /// The frame's colour-step scale in 64ths (its camera noise).
+    pub noise_scale: u32,
+    /// Pixels the sensor's widening adds to a hole's end in this frame.
+    pub widening: f64,
+    /// Depth (mm) from which a surface is at the end of the sensor's range.
+    pub range_end_mm: u16,
+}
+
 /// Labels ALIGNMENT the right end of every OTHER run (alignment pixels may sit inside it) that
 /// shows the colour of the measured surface right of it, from a clear colour edge inside the
 /// run: the RGB camera sees that surface there, past an occluder the IR camera could not
 /// measure. `fov_start[v]` is the first column of RGB row `v` that the IR view reaches (left of
-/// it everything stays OTHER, SPEC §1); `noise_scale` the frame's colour-step scale in 64ths;
-/// `widening` the pixels the sensor's widening adds to a hole's end in this frame.
+/// it everything stays OTHER, SPEC §1); `sensor` what the frame says about its sensor.
 ///
 /// A sensor whose correlation window widens every hole grows the run into the surface right of
 /// it too, and the RGB camera sees that surface over the run's last columns, whether an occluder
@@ -67,9 +77,13 @@ pub fn open_gaps(
     colour: &[u8],
     fov_start: &[u16],
     reach: Reach,
-    noise_scale: u32,
-    widening: f64,
+    sensor: Sensor,
 ) {
+    let Sensor {
+        noise_scale,
+        widening,
+        range_end_mm,
+    } = sensor;
     let scaled = |step: u32| step * noise_scale / 64;
     let grown = (EDGE_WIDENING * widening).round() as usize;
     let (agree, stray, contrast) = (scaled(AGREE), scaled(STRAY), scaled(CONTRAST));
@@ -108,6 +122,12 @@ pub fn open_gaps(
                     continue;
                 }
                 let lo = fov.max(b.saturating_sub(reach.widest(far)));
+                // A run from the view's left edge to a surface at the range's end may be that
+                // surface running on beyond the range, its colour and all, with a dark rod
+                // standing in it: no strip the IR camera cannot see.
+                if far >= range_end_mm && labels[fov..b].iter().all(|&l| hole(l)) {
+                    continue;
+                }
                 let mut u = b;
                 while u > lo
                     && hole(labels[u - 1])
@@ -190,8 +210,11 @@ mod tests {
                 &self.colour,
                 &self.fov,
                 reach(),
-                64,
-                widening,
+                Sensor {
+                    noise_scale: 64,
+                    widening,
+                    range_end_mm: u16::MAX,
+                },
             );
             let row = &self.labels[240 * WIDTH..241 * WIDTH];
             row.iter().map(|&l| b".ADLO"[l as usize] as char).collect()
