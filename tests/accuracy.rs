@@ -5766,3 +5766,52 @@ fn wall_beyond_the_range_past_a_black_rod_is_no_alignment_shadow() {
         "{wrong} pixels of the wall beyond the range read as alignment shadow"
     );
 }
+
+#[test]
+fn thin_black_rods_attached_shadow_is_split_off_its_narrow_hole() {
+    // A pale wall at 2.7 m and a black rod, r = 0.8 cm at 2.2 m. By hand the rod spans
+    // cx ± fx·0.008/2.2 = ±2.1 px and shifts f·b·(1/2.2 − 1/2.7) = 3.7 px: its shadow and the
+    // rod make one hole of about 8 px with the wall on both sides, narrower than the colour
+    // split reads (10 px), and every row of it stayed OTHER.
+    let calib = Calibration::nyu_default();
+    let (cx, fx, fb) = (calib.depth.cx, calib.depth.fx, calib.fb());
+    let (half, shift) = (fx * 0.008 / 2.2, fb * (1.0 / 2.2 - 1.0 / 2.7));
+    assert!((3.5..3.9).contains(&shift) && (2.0..2.2).contains(&half));
+    let mut scene = Scene::new("a thin black rod before a wall");
+    scene.push(
+        "wall",
+        wall(2.7),
+        umbra::synth::Material::matte([0.75, 0.72, 0.62]),
+    );
+    scene.push(
+        "rod",
+        vertical_rod(0.0, 2.2, 0.008),
+        umbra::synth::Material::black(),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 8);
+    let out = classify_rgb(&calib, &frame);
+    let cols = (cx - half - shift - 4.0) as usize..(cx + half + 2.0) as usize;
+    let (mut truth, mut found, mut rod, mut wrong) = (0, 0, 0, 0);
+    for v in 40..440 {
+        for u in cols.clone() {
+            let (gt, got) = (frame.ir_labels[v * WIDTH + u], out.ir_labels[v * WIDTH + u]);
+            // The simulator's shadow lies left of the rod, as the hand computation says.
+            assert!(
+                gt != ATTACHED || (u as f64) < cx - half + 1.0,
+                "row {v}, column {u}"
+            );
+            truth += usize::from(gt == ATTACHED);
+            found += usize::from(gt == ATTACHED && got == ATTACHED);
+            rod += usize::from(gt == OTHER);
+            wrong += usize::from(gt == OTHER && got != OTHER);
+        }
+    }
+    assert!(truth >= 400 * 2, "the scene has its shadow ({truth} px)");
+    let recall = found as f64 / truth as f64;
+    assert!(
+        recall >= 0.5,
+        "attached recall {recall:.3} ({found} of {truth})"
+    );
+    let stray = wrong as f64 / rod as f64;
+    assert!(stray <= 0.05, "{wrong} of {rod} rod pixels read as shadow");
+}

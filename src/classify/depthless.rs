@@ -53,6 +53,7 @@ mod patch;
 mod rod_in_shadow;
 mod silhouette;
 mod tail;
+mod thin_rod;
 mod unlike;
 
 /// Narrowest merged hole considered (pixels): a shadow and an occluder of 5 px each. Narrower
@@ -523,6 +524,10 @@ impl ColourSplit {
                 if !patched
                     && self.detached_pair(raw, rgb, labels, filled, &mut prefix.recent, v, (a, b))
                 {
+                    u = mask.next_hole(b.max(u + 1));
+                    continue;
+                }
+                if !patched && self.thin_rod_shadow(raw, rgb, labels, filled, v, (a, b)) {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
                 }
