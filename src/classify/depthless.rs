@@ -30,10 +30,15 @@
 //! - an attached hole may end in its occluder's own side face, seen at a grazing angle, which
 //!   the RGB camera shows in the occluder's hue (`depthless/face.rs`);
 //! - a detached shadow's tail the scanline read at the right end of a hole it shares with a
-//!   nearer object's dropout starts where the RGB camera sees the wall (`depthless/tail.rs`).
+//!   nearer object's dropout starts where the RGB camera sees the wall (`depthless/tail.rs`);
+//! - a rod a few pixels wide and its shadow, one hole narrower than the split reads with the
+//!   wall on both sides, are told apart column by column (`depthless/thin_rod.rs`).
 //!
-//! Runs on holes the scanline left OTHER (splits only on those at least 10 px wide; the thin-Sb
-//! reading on attached ones), after the scanline and before the warp; nothing is allocated.
+//! Runs on holes the scanline left OTHER (splits only on those at least 10 px wide, the thin
+//! rod's reading on narrower ones; the thin-Sb reading on attached ones), after the scanline and
+//! before the warp; nothing is allocated. A hole from the left border to a surface at the
+//! range's end that shows that surface's colour over most of it is that surface beyond the
+//! range: no occluder's depth is given to it.
 
 use super::align::Simd;
 use super::holes::HoleMask;
