@@ -1856,19 +1856,28 @@ fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, rows: Rows, label
 /// projector's ray), the rest Sb's attached one. Without this, a thin rod's attached shadow
 /// swallows the detached shadow of the box behind it.
 fn nearer_shadow_past_sb(p: &ScanParams, raw: &[u16], h: Run, sa: Bound) -> Option<usize> {
-    // The strip: Sb's surface, pixel to pixel without a depth edge.
-    let mut q = h.end + 1;
-    while q < raw.len() && raw[q] != NO_DEPTH && raw[q].abs_diff(raw[q - 1]) <= p.edge_raw {
-        q += 1;
+    // X's shadow reaches into the hole only from within the widest shift of its start.
+    let widest = (p.max_disp - p.disp(sa.far)).max(0.0) as usize;
+    let reach = raw.len().min(h.start + widest + 1);
+    if reach <= h.end + 1 {
+        return None;
     }
-    let gap = q;
+    // The strip: Sb's surface up to the next hole, pixel to pixel without a depth edge.
+    let gap = h.end + raw[h.end..reach].iter().position(|&r| r == NO_DEPTH)?;
+    if raw[h.end..gap]
+        .windows(2)
+        .any(|w| w[0].abs_diff(w[1]) > p.edge_raw)
+    {
+        return None;
+    }
     let strip = raw[gap - 1];
-    while q < raw.len() && raw[q] == NO_DEPTH {
+    let mut q = gap;
+    while q < reach && raw[q] == NO_DEPTH {
         q += 1;
     }
     // Without a hole between, a nearer X right of the strip is more often the same object
     // turning towards the camera (a slanted face's steps) than an occluder standing in front.
-    if q >= raw.len() || q == gap {
+    if q >= reach || q == gap || raw[q] == NO_DEPTH {
         return None;
     }
     // X stands before the strip, and the hole between is no wider than X's attached shadow
