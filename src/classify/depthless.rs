@@ -1528,7 +1528,7 @@ impl ColourSplit {
             .then(|| self.mean_colour(rgb, v, b..b + SIDE, bg))
             .flatten();
         // A few columns in from the occluder's right edge, which the reading places to ±2 px.
-        let inside = (b - 4).max(a);
+        let inside = b.saturating_sub(4).max(a);
         let (Some(wall), Some(occluder)) = (wall, self.probe(rgb, inside, v, at)) else {
             return false;
         };
