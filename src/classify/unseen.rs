@@ -122,12 +122,6 @@ pub fn open_gaps(
                     continue;
                 }
                 let lo = fov.max(b.saturating_sub(reach.widest(far)));
-                // A run from the view's left edge to a surface at the range's end may be that
-                // surface running on beyond the range, its colour and all, with a dark rod
-                // standing in it: no strip the IR camera cannot see.
-                if far >= range_end_mm && labels[fov..b].iter().all(|&l| hole(l)) {
-                    continue;
-                }
                 let mut u = b;
                 while u > lo
                     && hole(labels[u - 1])
@@ -144,7 +138,19 @@ pub fn open_gaps(
                     && labels[u - 2] == OTHER
                     && hue_dist(px(u - 2), px(u)) >= contrast
                     && hue_dist(px(u - 2), bg) >= contrast;
-                if edge && b >= u + grown + MIN_STRIP {
+                // A run from the view's left edge to a surface at the range's end may be that
+                // surface running on beyond the range, a dark rod standing in it: the RGB camera
+                // then sees the surface's colour left of the rod too, over more of the run than
+                // the widest shadow an occluder casts there (three times its alignment strip).
+                let beyond = || {
+                    far >= range_end_mm
+                        && labels[fov..b].iter().all(|&l| hole(l))
+                        && (fov..u - 2)
+                            .filter(|&x| hue_dist(px(x), bg) <= stray)
+                            .count()
+                            > 3 * reach.widest(far)
+                };
+                if edge && b >= u + grown + MIN_STRIP && !beyond() {
                     labels[u..b - grown].fill(ALIGNMENT);
                 }
             }
