@@ -1859,11 +1859,10 @@ fn nearer_shadow_past_sb(p: &ScanParams, raw: &[u16], h: Run, sa: Bound) -> Opti
     // X's shadow reaches into the hole only from within the widest shift of its start.
     let widest = (p.max_disp - p.disp(sa.far)).max(0.0) as usize;
     let reach = raw.len().min(h.start + widest + 1);
-    if reach <= h.end + 1 {
-        return None;
-    }
-    // The strip: Sb's surface up to the next hole, pixel to pixel without a depth edge.
-    let gap = h.end + raw[h.end..reach].iter().position(|&r| r == NO_DEPTH)?;
+    // The strip: Sb's surface up to the next hole, pixel to pixel without a depth edge. Without
+    // a hole after it, a nearer X right of the strip is more often the same object turning
+    // towards the camera (a slanted face's steps) than an occluder standing in front.
+    let gap = hole_after(raw, h.end, reach.checked_sub(h.end)?)?;
     if raw[h.end..gap]
         .windows(2)
         .any(|w| w[0].abs_diff(w[1]) > p.edge_raw)
@@ -1871,13 +1870,13 @@ fn nearer_shadow_past_sb(p: &ScanParams, raw: &[u16], h: Run, sa: Bound) -> Opti
         return None;
     }
     let strip = raw[gap - 1];
-    let mut q = gap;
-    while q < reach && raw[q] == NO_DEPTH {
-        q += 1;
-    }
-    // Without a hole between, a nearer X right of the strip is more often the same object
-    // turning towards the camera (a slanted face's steps) than an occluder standing in front.
-    if q >= reach || q == gap || raw[q] == NO_DEPTH {
+    // The hole X shades on the strip, then X.
+    let q = gap
+        + raw[gap..reach]
+            .iter()
+            .take_while(|&&r| r == NO_DEPTH)
+            .count();
+    if q >= reach {
         return None;
     }
     // X stands before the strip, and the hole between is no wider than X's attached shadow
