@@ -5884,3 +5884,16 @@ fn glossy_rods_shadow_on_a_coloured_board_beside_a_pale_wall_is_split_off() {
     assert!(recall >= 0.8, "attached recall {recall:.3}");
     assert!(stray <= 0.05, "{stray:.3} of the rod read as shadow");
 }
+
+#[test]
+fn glossy_rods_shadow_on_a_turned_board_is_read_against_the_board() {
+    // The board turned 27° from the camera, its left part nearer: its edge lies 1.8 px nearer in
+    // disparity than the wall, the two still one surface by depth, but the board further left
+    // is more than 2 px nearer than the wall. Read against the wall's depth, the board beside
+    // the hole counted as no surface of its background, and the shadow stayed OTHER.
+    let fb = Calibration::nyu_default().fb();
+    let z_edge = 1.0 / (0.5 + 1.8 / fb);
+    let (recall, stray) = glossy_rod_at_a_boards_edge(z_edge, 27f64.to_radians());
+    assert!(recall >= 0.8, "attached recall {recall:.3}");
+    assert!(stray <= 0.05, "{stray:.3} of the rod read as shadow");
+}
