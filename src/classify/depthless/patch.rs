@@ -6,6 +6,10 @@
 //! the room, only not by the projector) and the poster left of it: the pixels from the hole's
 //! right end leftwards that show Sa's colour, up to a clear step to another colour, are the
 //! shadow, when eq. (3) with the sensor's widening puts its left end at or left of that step.
+//! Sa's colour beside the hole only finds the shadow's first pixels; the step is read against
+//! the shadow's own colour (a wide patch puts the two 100 px apart, and a wall's texture and
+//! light drift that far: holdout complex IR attached F1 +0.0011, the other suites within
+//! ±0.0001, the real frame unchanged).
 //! A hole onto a farther surface (a wall beyond range seen past Sa's edge) shows that surface's
 //! colour over the shadow, which may be Sa's too (walls painted alike): so the same shadow must
 //! also show plainly, Sb's attached shadow on Sa's surface, in a row above or below the patch.
@@ -90,16 +94,27 @@ impl ColourSplit {
         else {
             return false;
         };
+        // From there on the wall's colour is the shadow's own: a wide patch puts the wall beside
+        // the hole far from the shadow, and the wall's texture and light drift over that.
+        let Some(shade) = self.probe(rgb, u, v, sa) else {
+            return false;
+        };
+        let off_shade = |x: usize| {
+            self.probe(rgb, x, v, sa)
+                .map_or(u32::MAX, |c| hue_dist(c, shade))
+        };
         let mut c = u;
-        while c > a && far(c - 1) <= agree {
+        while c > a && off_shade(c - 1) <= agree {
             c -= 1;
         }
         // A lens blends the edge over a few columns: the other colour within BLEND of it, and on
         // average over the patch.
-        if u - c < 1 || c < a + BLEND + 1 || (c - BLEND..c).all(|x| far(x) <= step) {
+        if u - c < 1 || c < a + BLEND + 1 || (c - BLEND..c).all(|x| off_shade(x) <= step) {
             return false;
         }
-        let patch = (a..c - BLEND).map(|x| far(x).min(4 * step)).sum::<u32>();
+        let patch = (a..c - BLEND)
+            .map(|x| off_shade(x).min(4 * step))
+            .sum::<u32>();
         if patch < step * (c - BLEND - a) as u32 {
             return false;
         }
