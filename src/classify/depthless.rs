@@ -607,20 +607,21 @@ impl ColourSplit {
                             // left only. The left side's colour is then the background only if
                             // the RGB camera sees it on over the wall further left: over a black
                             // occluder's own hole it sees that occluder there.
-                            let c = self.opened(c, raw[v * WIDTH + c.a - 1])?;
-                            if prefix.first_probe == Some((v, c.a, c.bg, false)) {
+                            // Two surfaces: the left one is the background, read at its own
+                            // depth (the closed reading took the farther side's). One surface
+                            // runs on across the hole, as the closed reading saw it.
+                            let bg = c.bg;
+                            let narrow = c.b - c.a <= self.widest(bg);
+                            let two = narrow && self.sides_two_surfaces(rgb, v, (c.a, b), bg);
+                            let c =
+                                self.opened(c, if two { raw[v * WIDTH + c.a - 1] } else { bg })?;
+                            if prefix.first_probe == Some((v, c.a, bg, false)) {
                                 return None;
                             }
-                            if c.b - c.a <= self.widest(c.bg)
-                                && !((self.sides_differ_in_light(rgb, v, (c.a, b), c.bg)
-                                    || self.sides_two_surfaces(rgb, v, (c.a, b), c.bg)
-                                    || self.sides_differ_by_texture(
-                                        rgb,
-                                        labels,
-                                        v,
-                                        (c.a, b),
-                                        c.bg,
-                                    ))
+                            if narrow
+                                && !((two
+                                    || self.sides_differ_in_light(rgb, v, (c.a, b), bg)
+                                    || self.sides_differ_by_texture(rgb, labels, v, (c.a, b), bg))
                                     && self.nothing_seen_before(row, rgb, v, c.a, c.bg, true))
                             {
                                 return None;
@@ -1083,9 +1084,12 @@ impl ColourSplit {
                 })?;
             let (a, b) = hole_span(&self.masks[w], row, at);
             let n = self.candidate(raw, labels, w, (a, b), true, c.behind)?;
-            // An opened hole's neighbours are read the same way, where they are as wide.
+            // An opened hole's neighbours are read the same way, where they are as wide: at
+            // their left side's depth where this one is read at its own.
+            let at_left = c.bg == raw[v * WIDTH + c.a - 1];
             Some(if c.opened {
-                self.opened(n, row[n.a - 1]).unwrap_or(n)
+                let bg = if at_left { row[n.a - 1] } else { n.bg };
+                self.opened(n, bg).unwrap_or(n)
             } else {
                 n
             })
@@ -1269,15 +1273,18 @@ impl ColourSplit {
     /// stands in it), or one whose sides are one surface in different light or two surfaces at
     /// one depth.
     ///
-    /// Read from the left, its background is the left side (`left`, the raw value beside the
-    /// hole), no longer the farther of the two: against the right side's depth a left side up
-    /// to 2 px nearer in disparity, and receding towards the hole, counted as no surface of the
-    /// background, and the wall [`ColourSplit::nothing_seen_before`] reads was skipped (a
-    /// glossy rod at a cyan sphere's edge: holdout complex IR attached F1 +0.0015, RGB
-    /// +0.0014, RGB any-shadow precision −0.0002; the other suites within +0.0002, the real
-    /// frame unchanged).
-    fn opened(&self, c: Candidate, left: u16) -> Option<Candidate> {
-        let widest = self.widest(left);
+    /// Its background is `bg`: the caller's. Where the sides are two surfaces it is the left
+    /// side's raw value, no longer the farther of the two: against the right side's depth a
+    /// left side up to 2 px nearer in disparity, and receding towards the hole, counted as no
+    /// surface of the background, and the wall [`ColourSplit::nothing_seen_before`] reads was
+    /// skipped (a glossy rod at a cyan sphere's edge: holdout complex IR attached F1 +0.0015,
+    /// RGB +0.0014, RGB any-shadow precision −0.0002; the other suites within +0.0002, the
+    /// real frame unchanged). Where they are one surface, that surface runs on across the hole
+    /// and keeps the closed reading's depth: read at the nearer side's, two dropouts on a board
+    /// turned from the camera, the first of its colour, the second dark, read as a black
+    /// occluder's shadow.
+    fn opened(&self, c: Candidate, bg: u16) -> Option<Candidate> {
+        let widest = self.widest(bg);
         if !c.closed || c.behind {
             return None;
         }
@@ -1285,7 +1292,7 @@ impl ColourSplit {
             closed: false,
             opened: true,
             b: c.b.min(c.a + 2 * widest + OPEN_WINDOW),
-            bg: left,
+            bg,
             ..c
         })
     }
