@@ -5948,7 +5948,8 @@ fn black_boxs_shadow_along_its_slanted_top_edge_is_split_off() {
     // higher, at its left end). In the rows it crosses, the hole is the box's attached shadow
     // and a few pixels of box, and the box's edge moves 10 px or more from row to row; the
     // shadow's width read by colour strays by a few pixels with it, and those rows stayed
-    // OTHER (attached recall 0.26 in them over three frames).
+    // OTHER (attached recall 0.26 in them over three frames; 0.70 with a quarter of the
+    // edge's run allowed, 0.81 with a third).
     let calib = Calibration::nyu_default();
     let mut scene = before_a_pale_wall("a black box turned from the camera, above its centre");
     scene.push(
@@ -5987,7 +5988,7 @@ fn black_boxs_shadow_along_its_slanted_top_edge_is_split_off() {
     );
     let recall = found as f64 / truth as f64;
     assert!(
-        recall >= 0.6 && wrong * 50 <= found,
+        recall >= 0.75 && wrong * 50 <= found,
         "attached along the top edge: {found} of {truth} ({recall:.3}), {wrong} wrong"
     );
 }
