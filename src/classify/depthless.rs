@@ -621,13 +621,16 @@ impl ColourSplit {
                             // depth (the closed reading took the farther side's). One surface
                             // runs on across the hole, as the closed reading saw it.
                             let bg = c.bg;
+                            if !c.closed
+                                || c.behind
+                                || prefix.first_probe == Some((v, c.a, bg, false))
+                            {
+                                return None;
+                            }
                             let narrow = c.b - c.a <= self.widest(bg);
                             let two = narrow && self.sides_two_surfaces(rgb, v, (c.a, b), bg);
                             let c =
                                 self.opened(c, if two { raw[v * WIDTH + c.a - 1] } else { bg })?;
-                            if prefix.first_probe == Some((v, c.a, bg, false)) {
-                                return None;
-                            }
                             if narrow
                                 && !((two
                                     || self.sides_differ_in_light(rgb, v, (c.a, b), bg)
