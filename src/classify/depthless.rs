@@ -628,14 +628,27 @@ impl ColourSplit {
                                 return None;
                             }
                             let narrow = c.b - c.a <= self.widest(bg);
-                            let two = narrow && self.sides_two_surfaces(rgb, v, (c.a, b), bg);
+                            // The split's own probes beside the hole, read once for the three
+                            // tests of its sides.
+                            let sides = narrow
+                                .then(|| self.side_probes(rgb, v, (c.a, b), bg))
+                                .flatten();
+                            let two = sides.is_some_and(|s| self.sides_two_surfaces(c.a, bg, s));
                             let c =
                                 self.opened(c, if two { raw[v * WIDTH + c.a - 1] } else { bg })?;
                             if narrow
-                                && !((two
-                                    || self.sides_differ_in_light(rgb, v, (c.a, b), bg)
-                                    || self.sides_differ_by_texture(rgb, labels, v, (c.a, b), bg))
-                                    && self.nothing_seen_before(row, rgb, v, c.a, c.bg, true))
+                                && !sides.is_some_and(|s| {
+                                    (two || sides_differ_in_light(s)
+                                        || self.sides_differ_by_texture(
+                                            rgb,
+                                            labels,
+                                            v,
+                                            (c.a, b),
+                                            bg,
+                                            s,
+                                        ))
+                                        && self.nothing_seen_before(row, rgb, v, c.a, c.bg, true)
+                                })
                             {
                                 return None;
                             }
@@ -1179,29 +1192,21 @@ impl ColourSplit {
         hue_dist(middle, beside) >= self.dimmed(OCCLUDER_STEP, beside)
     }
 
-    /// True when the background beside the hole `[a, b)` of row `v` (at raw value `bg`) shows
-    /// one chromaticity on both sides, in different brightness: one surface, lit or patterned
-    /// differently, not two. Or one side is the other brightened until the camera clipped it
-    /// ([`brightened_into_clipping`]): a black rod's hole on a cream sphere, its highlight white
-    /// right of it. (Fourth simulator, 44 suites: complex IR attached F1 +0.029 summed, j44
-    /// +0.018, j14 +0.012; precision −0.004, at most −0.002 on one suite; simple +0.003; this
-    /// project's suites and the real frame unchanged.)
-    fn sides_differ_in_light(&self, rgb: &[u8], v: usize, (a, b): (usize, usize), bg: u16) -> bool {
-        // The split's own probes beside the hole.
+    /// The colours beside the hole `[a, b)` of row `v` (at raw value `bg`) the tests of its
+    /// sides compare: the split's own probes, left and right of it.
+    fn side_probes(
+        &self,
+        rgb: &[u8],
+        v: usize,
+        (a, b): (usize, usize),
+        bg: u16,
+    ) -> Option<([i32; 3], [i32; 3])> {
         let probe = |u: usize| self.probe(rgb, u, v, bg);
-        let (Some(l), Some(r)) = (probe(a - 2), probe((b + 1).min(WIDTH - 1))) else {
-            return false;
-        };
-        let (sl, sr) = (l.iter().sum::<i32>().max(1), r.iter().sum::<i32>().max(1));
-        // Chromaticity in thousandths.
-        let off: i32 = (0..3)
-            .map(|k| (1000 * l[k] / sl - 1000 * r[k] / sr).abs())
-            .sum();
-        off <= CHROMA_AGREE || brightened_into_clipping(l, r)
+        Some((probe(a - 2)?, probe((b + 1).min(WIDTH - 1))?))
     }
 
-    /// True when the sides of the hole `[a, b)` of row `v` (raw value `bg`), one surface by
-    /// depth, are two by colour, both lit well enough to tell: an occluder without depth stands
+    /// True when the sides of a hole starting at `a` (raw value `bg`; colours `l`, `r` from
+    /// [`ColourSplit::side_probes`]), one surface by depth, are two by colour, both lit well enough to tell: an occluder without depth stands
     /// where one surface ends before another a few centimetres behind it (a glossy rod at a
     /// cyan sphere's edge before a white wall), and its shadow on the left one must be read
     /// from the left. Not within a third of the widest shift of the left border, where the
@@ -1212,20 +1217,17 @@ impl ColourSplit {
     /// of its holes called attached). Complex IR attached F1 +0.0010 on seed 5150 and +0.0002
     /// on seed 9053 (both sensors), the other suites within ±0.0001; on the real frame three
     /// RGB-view pixels at the end of one dark hole change.
-    fn sides_two_surfaces(&self, rgb: &[u8], v: usize, (a, b): (usize, usize), bg: u16) -> bool {
+    fn sides_two_surfaces(&self, a: usize, bg: u16, (l, r): ([i32; 3], [i32; 3])) -> bool {
         if a < self.widest(bg) / 3 + SIDE {
             return false;
         }
-        let probe = |u: usize| self.probe(rgb, u, v, bg);
-        let (Some(l), Some(r)) = (probe(a - 2), probe((b + 1).min(WIDTH - 1))) else {
-            return false;
-        };
         let lit = |p: [i32; 3]| p.iter().sum::<i32>() >= DIM_FLOOR;
         lit(l) && lit(r) && hue_dist(l, r) > self.dimmed(SIDES_AGREE, l)
     }
 
-    /// True when the wall left of the hole `[a, b)` of row `v` (raw value `bg`) strays from its
-    /// colour beside the hole as far as the wall right of the hole does: a patterned wall (a
+    /// True when the wall left of the hole `[a, b)` of row `v` (raw value `bg`; colours `l`, `r`
+    /// beside it from [`ColourSplit::side_probes`]) strays from its colour beside the hole as
+    /// far as the wall right of the hole does: a patterned wall (a
     /// checker of two hues), whose next square the hole's right side may show. (An independent
     /// simulator's checkered walls: a black rod's attached shadow was left whole in most rows,
     /// complex IR attached F1 +0.0065 on its suite with a rotated RGB camera; the rest of its
@@ -1237,6 +1239,7 @@ impl ColourSplit {
         v: usize,
         (a, b): (usize, usize),
         bg: u16,
+        (l, r): ([i32; 3], [i32; 3]),
     ) -> bool {
         // A hole just right of a detached shadow is that shadow's occluder, whose image the RGB
         // camera sees moved left over the lit gap: no wall's pattern.
@@ -1252,11 +1255,7 @@ impl ColourSplit {
         let Some(start) = end.checked_sub(SPREAD_SPAN) else {
             return false;
         };
-        let probe = |u: usize| self.probe(rgb, u, v, bg);
-        let (Some(l), Some(r)) = (probe(a - 2), probe((b + 1).min(WIDTH - 1))) else {
-            return false;
-        };
-        let Some(m) = probe((a + b) / 2) else {
+        let Some(m) = self.probe(rgb, (a + b) / 2, v, bg) else {
             return false;
         };
         // And an occluder beyond the texture's range shows in the hole (a black rod before a
@@ -2263,6 +2262,22 @@ pub(crate) fn hue_dist(p: [i32; 3], q: [i32; 3]) -> u32 {
 fn in_palette(qs: &[[i32; 3]], p: [i32; 3], step: u32) -> bool {
     qs.iter()
         .any(|&q| 2 * hue_dist(p, q) < PALETTE_MATCH * step)
+}
+
+/// True when the colours beside a hole, `l` and `r` ([`ColourSplit::side_probes`]), show one
+/// chromaticity in different brightness: one surface, lit or patterned differently, not two. Or
+/// one side is the other brightened until the camera clipped it ([`brightened_into_clipping`]):
+/// a black rod's hole on a cream sphere, its highlight white right of it. (Fourth simulator, 44
+/// suites: complex IR attached F1 +0.029 summed, j44 +0.018, j14 +0.012; precision −0.004, at
+/// most −0.002 on one suite; simple +0.003; this project's suites and the real frame
+/// unchanged.)
+fn sides_differ_in_light((l, r): ([i32; 3], [i32; 3])) -> bool {
+    let (sl, sr) = (l.iter().sum::<i32>().max(1), r.iter().sum::<i32>().max(1));
+    // Chromaticity in thousandths.
+    let off: i32 = (0..3)
+        .map(|k| (1000 * l[k] / sl - 1000 * r[k] / sr).abs())
+        .sum();
+    off <= CHROMA_AGREE || brightened_into_clipping(l, r)
 }
 
 /// True when the brighter of `l` and `r` is the other in up to [`MAX_BRIGHTEN`] times the light,
