@@ -174,9 +174,10 @@ impl ColourSplit {
         }
     }
 
-    /// `[a, b)` as a closed hole: wide enough, with valid pixels of one depth on both sides.
-    fn closed(&self, row: &[u16], (a, b): (usize, usize)) -> Option<Closed> {
-        let (l, r, step) = self.sides(row, (a, b))?;
+    /// `[a, b)` as a closed hole: wide enough, with valid pixels of one depth on both sides (on
+    /// its right at least `right` of them before the image's edge).
+    fn closed(&self, row: &[u16], (a, b): (usize, usize), right: usize) -> Option<Closed> {
+        let (l, r, step) = self.sides(row, (a, b), right)?;
         (step.abs() <= SAME_SURFACE).then(|| Closed {
             a,
             b,
@@ -189,7 +190,7 @@ impl ColourSplit {
     /// closes it on the right only. (A projector shadow lies left of its occluder, so the nearer
     /// surface is not its occluder.)
     fn hidden_shadow(&self, row: &[u16], (a, b): (usize, usize)) -> Option<Closed> {
-        let (_, r, step) = self.sides(row, (a, b))?;
+        let (_, r, step) = self.sides(row, (a, b), SIDE)?;
         (step > SAME_SURFACE).then_some(Closed {
             a,
             b,
@@ -202,8 +203,11 @@ impl ColourSplit {
     /// `[a, b)` as an occluder's hole: [`ColourSplit::closed`], or closed on its right by another
     /// surface, farther (a rod standing before an object's edge) or nearer (`before`): the
     /// background of its shadow is then the one on its left.
+    ///
+    /// Its right side is only read for its depth: a pixel of it before the image's edge will
+    /// do (a near rod by the right border, its shadow well inside the image).
     fn occluder(&self, row: &[u16], (a, b): (usize, usize)) -> Option<Closed> {
-        let (l, r, step) = self.sides(row, (a, b))?;
+        let (l, r, step) = self.sides(row, (a, b), 1)?;
         let background_left = Closed {
             a,
             b,
@@ -221,13 +225,14 @@ impl ColourSplit {
                 ..background_left
             });
         }
-        self.closed(row, (a, b))
+        self.closed(row, (a, b), 1)
     }
 
-    /// The valid pixels either side of the hole `[a, b)` (wide enough, inside the image) and how
-    /// much nearer the left one is, in pixels of disparity.
-    fn sides(&self, row: &[u16], (a, b): (usize, usize)) -> Option<(u16, u16, f64)> {
-        if a < SIDE || b + SIDE > WIDTH || b - a < MIN_WIDTH {
+    /// The valid pixels either side of the hole `[a, b)` (wide enough, inside the image, `right`
+    /// pixels of it right of the hole) and how much nearer the left one is, in pixels of
+    /// disparity.
+    fn sides(&self, row: &[u16], (a, b): (usize, usize), right: usize) -> Option<(u16, u16, f64)> {
+        if a < SIDE || b + right > WIDTH || b - a < MIN_WIDTH {
             return None;
         }
         let (l, r) = (row[a - 1], row[b]);
@@ -236,7 +241,7 @@ impl ColourSplit {
 
     /// `[a, b)` as a shadow: [`ColourSplit::closed`] or [`ColourSplit::hidden_shadow`].
     fn shadow(&self, row: &[u16], hole: (usize, usize)) -> Option<Closed> {
-        self.closed(row, hole)
+        self.closed(row, hole, SIDE)
             .or_else(|| self.hidden_shadow(row, hole))
     }
 
