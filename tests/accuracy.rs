@@ -857,6 +857,65 @@ fn black_box_at_the_left_border_before_a_wall_beyond_range_casts_no_shadow_there
     }
 }
 
+#[test]
+fn black_box_before_a_wall_beyond_range_past_a_partitions_edge_casts_no_shadow_there() {
+    // A partition at 3.6 m, pale, up to column 395; right of it a wall at 5.4 m, beyond the
+    // 4.5 m range, of nearly its colour; a black box at 1.8 m, columns 420..480, rows about
+    // 180..260, no floor. Each of the box's rows is one hole from the partition's edge over the
+    // box, and the RGB camera sees pale wall, then the black box: the layout of the box's
+    // attached shadow on the partition. But the projector's shadow falls on the far wall,
+    // beyond the range (OTHER, SPEC §1), as the row above the box shows: the same hole, the
+    // same colour, no box. Read as a shadow, all 1 200 px of it were attached in both frames.
+    let calib = Calibration::nyu_default();
+    let (fx, fy, cx, cy) = (
+        calib.depth.fx,
+        calib.depth.fy,
+        calib.depth.cx,
+        calib.depth.cy,
+    );
+    let mut scene = Scene::new("black box before a wall beyond range, past a partition");
+    scene.push(
+        "wall",
+        umbra::synth::scene::wall(5.4),
+        umbra::synth::Material::matte([0.8, 0.8, 0.76]),
+    );
+    let x_edge = (395.0 - cx) / fx * 3.6;
+    push_box(
+        &mut scene,
+        "partition",
+        [x_edge - 3.0, 0.0, 3.65],
+        [3.0, 3.0, 0.05],
+        umbra::synth::Material::matte([0.82, 0.8, 0.78]),
+    );
+    let x = |u: f64| (u - cx) / fx * 1.8;
+    let y = |v: f64| (v - cy) / fy * 1.8;
+    push_black_box(
+        &mut scene,
+        "box",
+        [0.5 * (x(420.0) + x(480.0)), y(220.0), 1.85],
+        [
+            0.5 * (x(480.0) - x(420.0)),
+            0.5 * (y(260.0) - y(180.0)),
+            0.05,
+        ],
+    );
+    for seed in 7..9 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        // Between the partition's edge and the box, in the box's rows: the far wall's hole.
+        let between: Vec<usize> = (190..250)
+            .flat_map(|v| (398..418).map(move |u| v * WIDTH + u))
+            .filter(|&i| frame.ir_labels[i] == OTHER)
+            .collect();
+        assert!(between.len() > 1000, "{} px of the far wall", between.len());
+        let out = classify_rgb(&calib, &frame);
+        let claimed = count_labelled(&out.ir_labels, &between, ATTACHED);
+        assert_eq!(
+            claimed, 0,
+            "attached pixels claimed beyond the range (seed {seed})"
+        );
+    }
+}
+
 /// A pale box 20 cm deep, its face at `z` m spanning x = `left..right` and `half_height` m up
 /// and down, before a dark wall at 5.5 m, beyond the sensor's range.
 fn pale_box_before_a_region_beyond_range(
