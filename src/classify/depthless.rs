@@ -200,14 +200,13 @@ const MIN_BORDER_HOLE: usize = 48;
 /// RGB columns of occluder scored at least after the shadow of a hole that is not closed by
 /// background (more for wider shadows: an attached shadow's occluder is at least as wide as it).
 const OPEN_WINDOW: usize = 8;
-
 /// Halves of the wall columns' largest distance from the wall's colour (before an open hole's
 /// occluder) a pale occluder's face must keep from it to count as occluder within the column
-/// step.
+/// step (at least half the step: a noise-free wall strays by nothing).
 const FAINT_NUM: u32 = 3;
-
 /// How many times the wall's largest distance from its own colour a pale occluder's edge must
-/// step from it.
+/// step from it (its first columns past the first run of non-wall columns, within
+/// [`EDGE_NEAR`]).
 const PALE_EDGE: u32 = 4;
 /// Pixels an open hole's occluder may fall short of its shift before it is too narrow for an
 /// attached shadow ([`ColourSplit::occluder_too_narrow`]): the sensor's widening and the colour

@@ -45,7 +45,7 @@ const NARROWER: usize = 3;
 /// detached shadow may join it on its left (a thin rod standing behind a near glossy one, its
 /// shadow at the glossy rod's edge), and the pair's shift is read from the right edges, which
 /// that leaves alone. A fresh suite's glossy rod at 0.6 m (seed 31415, scene 017): its hole 5 px
-/// wider than its 37 px shadow in 300 rows.
+/// wider than its 37 px shadow from the thin rod's top down.
 const MERGED_SHARE: usize = 4;
 /// Shifts of the rows above and below may differ by this much (pixels): the sensor's widening
 /// moves each row's shadow end by 0–3 px.
