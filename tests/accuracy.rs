@@ -371,99 +371,28 @@ fn glossy_rods_detached_shadow_is_found_where_its_limb_returns_depth() {
     assert_eq!(wrong, 0, "pixels of the rod itself read as its shadow");
 }
 
-#[test]
-fn glossy_rods_detached_shadow_is_found_with_the_rod_by_the_right_border() {
-    // A glossy rod, r = 1.9 cm at 0.6 m, before a wall at 3 m, its right edge 4 px from the
-    // image's right border: by hand it spans fx·0.038/0.6 ≈ 37 px and its shadow lies
-    // f·b·(1/0.6 − 1/3) ≈ 58 px further left, a detached shadow with a lit gap of about 21 px.
-    // Most rows are left to the colour split's pairing of a depthless occluder and its shadow,
-    // which wanted four columns of wall right of the rod's hole (the colour it reads there is
-    // the shadow's, not the occluder's); the sensor's widening leaves two. The shadow was OTHER
-    // in three rows of four (detached recall 0.245; 1.000 now) and the rod itself read as the
-    // shadow in some (a fresh suite's near glossy rod: 10 000 px a frame).
+/// A glossy rod, r = 1.9 cm at 0.6 m, its axis on column `centre`, before a pale wall at 3 m,
+/// with whatever `extra` adds: by hand it spans ±fx·0.019/0.6 ≈ ±18.4 px and its detached
+/// shadow lies f·b·(1/0.6 − 1/3) ≈ 58 px further left (a lit gap of about 21 px). Renders one
+/// frame (`seed`) and scores the rows 40..440 where the simulator puts a shadow of at least
+/// `min_len` px among `cols` starting within 4 px of the hand computation, and `row_ok` holds
+/// (a speckle's hole may join the shadow's start: such rows are not scored). Returns the rows
+/// scored, the detached recall over them, and the rod's own pixels read as anything but OTHER.
+fn near_glossy_rod_shadow(
+    centre: f64,
+    extra: impl FnOnce(&mut Scene),
+    seed: u64,
+    (cols, min_len): (std::ops::Range<usize>, usize),
+    row_ok: impl Fn(&SynthFrame, usize) -> bool,
+) -> (usize, f64, usize) {
     let calib = Calibration::nyu_default();
     let (cx, fx, fb) = (calib.depth.cx, calib.depth.fx, calib.fb());
     let (z, r) = (0.6, 0.019);
     let shift = fb * (1.0 / z - 1.0 / 3.0);
     assert!((55.0..65.0).contains(&shift), "shift {shift}");
-    // The rod's right edge at column 635.5 (the sensor widens its hole by about 2 px): its axis
-    // fx·r/z left of that (the silhouette of a rod this thin lies within 0.1 px of x ± r).
-    let right = 635.5;
-    let x = (right - cx) * z / fx - r;
-    let rod_left = right - 2.0 * fx * r / z;
-    let mut scene = Scene::new("a glossy rod by the right border before a wall");
-    scene.push(
-        "wall",
-        wall(3.0),
-        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
-    );
-    scene.push(
-        "rod",
-        vertical_rod(x, z, r),
-        umbra::synth::Material::glossy([0.3, 0.45, 0.7]),
-    );
-    let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 5);
-    let out = classify_rgb(&calib, &frame);
-    let (mut rows, mut truth, mut found, mut wrong) = (0, 0, 0, 0);
-    for v in 40..440 {
-        let row = v * WIDTH;
-        // The simulator's shadow lies where the hand computation puts it, and one to three
-        // columns of wall show right of the rod.
-        let shadow: Vec<usize> = (500..620)
-            .filter(|&u| frame.ir_labels[row + u] == DETACHED)
-            .collect();
-        let wall_right = frame.raw[row..row + WIDTH]
-            .iter()
-            .rev()
-            .take_while(|&&r| r != NO_DEPTH)
-            .count();
-        // (A speckle's hole may join the shadow's start: such rows are not scored.)
-        if !(shadow.len() >= 20
-            && (shadow[0] as f64 - (rod_left - shift)).abs() <= 4.0
-            && (1..4).contains(&wall_right))
-        {
-            continue;
-        }
-        rows += 1;
-        truth += shadow.len();
-        found += shadow
-            .iter()
-            .filter(|&&u| out.ir_labels[row + u] == DETACHED)
-            .count();
-        wrong += (rod_left as usize + 1..WIDTH)
-            .filter(|&u| out.ir_labels[row + u] == DETACHED)
-            .count();
-    }
-    assert!(
-        rows >= 360,
-        "{rows} of 400 rows have the shadow and the wall where they belong"
-    );
-    let recall = found as f64 / truth as f64;
-    assert!(recall >= 0.85, "detached recall {recall:.3}");
-    assert_eq!(wrong, 0, "pixels of the rod itself read as its shadow");
-}
-
-#[test]
-fn glossy_rods_detached_shadow_is_found_where_a_rod_behind_it_shadows_its_edge() {
-    // A glossy rod, r = 1.9 cm at 0.6 m, before a wall at 3 m, its axis on column 450: by hand
-    // it spans ±fx·0.019/0.6 ≈ ±18.4 px and its detached shadow lies f·b·(1/0.6 − 1/3) ≈ 58 px
-    // further left, 373..410. A thin matte rod (r = 4 mm at 1.27 m) stands behind it, hidden
-    // from the IR camera, where its own shadow, f·b·(1/1.27 − 1/3) ≈ 19.7 px to its left,
-    // falls on the wall at the glossy rod's left edge: the glossy rod's hole is the thin rod's
-    // shadow and itself, a few pixels wider than the glossy rod's shadow, wider than the
-    // widening allows: the glossy rod's shadow stayed OTHER in four rows of five (detached
-    // recall 0.204; 1.000 now), and 3 944 px of the rod were read as a shadow (a fresh suite's
-    // scene: 8 600 px a frame).
-    let calib = Calibration::nyu_default();
-    let (cx, fx, fb) = (calib.depth.cx, calib.depth.fx, calib.fb());
-    let (z, r) = (0.6, 0.019);
-    let shift = fb * (1.0 / z - 1.0 / 3.0);
     let half = fx * r / z;
-    let (centre, left) = (450.0, 450.0 - half);
-    let thin_shift = fb * (1.0 / 1.27 - 1.0 / 3.0);
-    // The thin rod's shadow ends 2 px inside the glossy rod's left edge.
-    let thin_u = left + thin_shift - 1.0;
-    let mut scene = Scene::new("a thin rod behind a near glossy one, before a wall");
+    let left = centre - half;
+    let mut scene = Scene::new("a near glossy rod before a wall");
     scene.push(
         "wall",
         wall(3.0),
@@ -474,25 +403,20 @@ fn glossy_rods_detached_shadow_is_found_where_a_rod_behind_it_shadows_its_edge()
         vertical_rod((centre - cx) * z / fx, z, r),
         umbra::synth::Material::glossy([0.3, 0.45, 0.7]),
     );
-    scene.push(
-        "thin rod",
-        vertical_rod((thin_u - cx) * 1.27 / fx, 1.27, 0.004),
-        umbra::synth::Material::matte([0.9, 0.8, 0.3]),
-    );
-    let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 11);
+    extra(&mut scene);
+    let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
     let out = classify_rgb(&calib, &frame);
     let (mut rows, mut truth, mut found, mut wrong) = (0, 0, 0, 0);
     for v in 40..440 {
         let row = v * WIDTH;
-        // The simulator's shadow where the hand computation puts it, and the thin rod's shadow
-        // at the glossy rod's edge, in the same hole.
-        let shadow: Vec<usize> = (340..420)
+        let shadow: Vec<usize> = cols
+            .clone()
             .filter(|&u| frame.ir_labels[row + u] == DETACHED)
             .collect();
-        let joined = (420..436).any(|u| frame.ir_labels[row + u] == DETACHED)
-            && (428..436).all(|u| frame.raw[row + u] == NO_DEPTH);
-        // (A speckle's hole may join the shadow's start: such rows are not scored.)
-        if !(shadow.len() >= 30 && (shadow[0] as f64 - (left - shift)).abs() <= 4.0 && joined) {
+        if !(shadow.len() >= min_len
+            && (shadow[0] as f64 - (left - shift)).abs() <= 4.0
+            && row_ok(&frame, v))
+        {
             continue;
         }
         rows += 1;
@@ -501,15 +425,75 @@ fn glossy_rods_detached_shadow_is_found_where_a_rod_behind_it_shadows_its_edge()
             .iter()
             .filter(|&&u| out.ir_labels[row + u] == DETACHED)
             .count();
-        wrong += (left as usize + 6..(centre + half) as usize)
+        wrong += (left as usize + 6..((centre + half) as usize).min(WIDTH))
             .filter(|&u| frame.ir_labels[row + u] == OTHER && out.ir_labels[row + u] != OTHER)
             .count();
     }
+    (rows, found as f64 / truth.max(1) as f64, wrong)
+}
+
+#[test]
+fn glossy_rods_detached_shadow_is_found_with_the_rod_by_the_right_border() {
+    // The near glossy rod with its right edge at column 635.5, 4 px from the image's right
+    // border (the sensor widens its hole by about 2 px). Most rows are left to the colour
+    // split's pairing of a depthless occluder and its shadow, which wanted four columns of wall
+    // right of the rod's hole (the colour it reads there is the shadow's, not the occluder's);
+    // the sensor's widening leaves two. The shadow was OTHER in three rows of four (detached
+    // recall 0.245; 1.000 now) and the rod itself read as the shadow in some (a fresh suite's
+    // near glossy rod: 10 000 px a frame).
+    let calib = Calibration::nyu_default();
+    let half = calib.depth.fx * 0.019 / 0.6;
+    // One to three columns of wall show right of the rod.
+    let wall_right = |frame: &SynthFrame, v: usize| {
+        let n = frame.raw[v * WIDTH..(v + 1) * WIDTH]
+            .iter()
+            .rev()
+            .take_while(|&&r| r != NO_DEPTH)
+            .count();
+        (1..4).contains(&n)
+    };
+    let (rows, recall, wrong) =
+        near_glossy_rod_shadow(635.5 - half, |_| {}, 5, (500..620, 20), wall_right);
+    assert!(
+        rows >= 360,
+        "{rows} of 400 rows have the shadow and the wall where they belong"
+    );
+    assert!(recall >= 0.85, "detached recall {recall:.3}");
+    assert_eq!(wrong, 0, "pixels of the rod itself read as its shadow");
+}
+
+#[test]
+fn glossy_rods_detached_shadow_is_found_where_a_rod_behind_it_shadows_its_edge() {
+    // The near glossy rod with its axis on column 450: its shadow by hand 373..410. A thin
+    // matte rod (r = 4 mm at 1.27 m) stands behind it, hidden from the IR camera, where its own
+    // shadow, f·b·(1/1.27 − 1/3) ≈ 19.7 px to its left, falls on the wall at the glossy rod's
+    // left edge: the glossy rod's hole is the thin rod's shadow and itself, a few pixels wider
+    // than the glossy rod's shadow, wider than the widening allows: the glossy rod's shadow
+    // stayed OTHER in four rows of five (detached recall 0.204; 1.000 now), and 3 944 px of the
+    // rod were read as a shadow (a fresh suite's scene: 8 600 px a frame).
+    let calib = Calibration::nyu_default();
+    let (cx, fx, fb) = (calib.depth.cx, calib.depth.fx, calib.fb());
+    let left = 450.0 - fx * 0.019 / 0.6;
+    // The thin rod's shadow ends 2 px inside the glossy rod's left edge.
+    let thin_u = left + fb * (1.0 / 1.27 - 1.0 / 3.0) - 1.0;
+    let thin_rod = |scene: &mut Scene| {
+        scene.push(
+            "thin rod",
+            vertical_rod((thin_u - cx) * 1.27 / fx, 1.27, 0.004),
+            umbra::synth::Material::matte([0.9, 0.8, 0.3]),
+        );
+    };
+    // The thin rod's shadow at the glossy rod's edge, in the same hole.
+    let joined = |frame: &SynthFrame, v: usize| {
+        let row = v * WIDTH;
+        (420..436).any(|u| frame.ir_labels[row + u] == DETACHED)
+            && (428..436).all(|u| frame.raw[row + u] == NO_DEPTH)
+    };
+    let (rows, recall, wrong) = near_glossy_rod_shadow(450.0, thin_rod, 11, (340..420, 30), joined);
     assert!(
         rows >= 250,
         "{rows} of 400 rows hold both shadows where they belong"
     );
-    let recall = found as f64 / truth as f64;
     assert!(recall >= 0.85, "detached recall {recall:.3}");
     assert_eq!(wrong, 0, "pixels of the glossy rod itself read as shadow");
 }
