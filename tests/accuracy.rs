@@ -6233,3 +6233,79 @@ fn pale_glossy_cylinders_shadow_on_a_wall_of_nearly_its_colour_is_split_off() {
     assert!(recall >= 0.85, "attached recall {recall:.3}");
     assert!(stray <= 0.03, "{stray:.3} of the cylinder read as shadow");
 }
+
+#[test]
+fn black_rods_hole_closed_by_a_thin_rod_behind_it_is_no_shadow_of_that_rod() {
+    // A pale wall at 2 m; a black rod, r = 1 cm at x = 0, 0.8 m; a thin matte rod, r = 1.5 mm at
+    // 1.2 m, standing just right of the black rod's edge. By hand the black rod spans
+    // cx ± fx·0.01/0.8 = ±7.3 px and casts its shadow f·b·(1/0.8 − 1/2) = 32.8 px further left,
+    // cx − 40.1..cx − 25.5 (detached). The thin rod, about 1.5 px wide, shifts its shadow
+    // f·b·(1/1.2 − 1/2) = 14.6 px, onto the black rod's left edge: the black rod's hole, closed
+    // by the thin rod on its right, is as wide as that shift, so eq. (3)'s width fits it, and it
+    // was read as the thin rod's detached shadow in every row, the black rod's own shadow OTHER.
+    // A 1.5 px rod casts no 15 px shadow: the lit gap of 13 px between them would show.
+    let calib = Calibration::nyu_default();
+    let (cx, fx, fb) = (calib.depth.cx, calib.depth.fx, calib.fb());
+    let (half, shift) = (fx * 0.01 / 0.8, fb * (1.0 / 0.8 - 1.0 / 2.0));
+    let (t_half, t_shift) = (fx * 0.0015 / 1.2, fb * (1.0 / 1.2 - 1.0 / 2.0));
+    assert!(
+        (2.0 * half - t_shift).abs() < 1.5,
+        "the thin rod's shift {t_shift:.1} is about the black rod's width {:.1}",
+        2.0 * half
+    );
+    let t_centre = cx + half + 0.3 + t_half;
+    let shadow = (cx - half - shift).ceil() as usize + 1..(cx + half - shift) as usize - 1;
+    let rod = (cx - half) as usize + 3..(cx + half) as usize - 1;
+    let mut scene = Scene::new("a black rod closed by a thin rod behind it");
+    scene.push(
+        "wall",
+        wall(2.0),
+        umbra::synth::Material::matte([0.75, 0.72, 0.62]),
+    );
+    scene.push(
+        "black rod",
+        vertical_rod(0.0, 0.8, 0.01),
+        umbra::synth::Material::black(),
+    );
+    scene.push(
+        "thin rod",
+        vertical_rod((t_centre - cx) * 1.2 / fx, 1.2, 0.0015),
+        umbra::synth::Material::matte([0.8, 0.55, 0.3]),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 11);
+    let out = classify_rgb(&calib, &frame);
+    let (mut rows, mut truth, mut found, mut wrong) = (0, 0, 0, 0);
+    for v in 100..380 {
+        let row = v * WIDTH;
+        let count = |labels: &[u8], code, us: &std::ops::Range<usize>| {
+            us.clone().filter(|&u| labels[row + u] == code).count()
+        };
+        // The simulator's shadow and rod lie where the hand computation puts them, and the thin
+        // rod closes the black rod's hole.
+        let closed = frame.raw[row + (t_centre as usize)] != NO_DEPTH
+            && frame.raw[row + (cx + half) as usize - 1] == NO_DEPTH;
+        if count(&frame.ir_labels, DETACHED, &shadow) < shadow.len()
+            || count(&frame.ir_labels, OTHER, &rod) < rod.len()
+            || !closed
+        {
+            continue;
+        }
+        rows += 1;
+        truth += shadow.len();
+        found += count(&out.ir_labels, DETACHED, &shadow);
+        wrong += rod.len() - count(&out.ir_labels, OTHER, &rod);
+    }
+    assert!(
+        rows >= 200,
+        "the scene has the shadow and the closed hole in {rows} rows"
+    );
+    let recall = found as f64 / truth as f64;
+    assert!(
+        recall >= 0.9,
+        "detached recall {recall:.3} over {rows} rows"
+    );
+    assert!(
+        wrong <= rows,
+        "{wrong} pixels of the black rod over {rows} rows read as a shadow"
+    );
+}

@@ -535,6 +535,19 @@ impl ColourSplit {
                     }
                     if labels[i] == DETACHED {
                         self.remember_detached(raw, labels, &mut prefix.recent, v, (a, b));
+                        // The scanline may leave a depthless occluder's part of the hole
+                        // OTHER, past a thin rod's shadow (`unswallowed_gap`): it pairs whole.
+                        if labels[v * WIDTH + b - 1] == OTHER {
+                            self.detached_pair(
+                                raw,
+                                rgb,
+                                labels,
+                                filled,
+                                &mut prefix.recent,
+                                v,
+                                (a, b),
+                            );
+                        }
                     }
                     u = mask.next_hole(b.max(u + 1));
                     continue;

@@ -1840,6 +1840,17 @@ fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, rows: Rows, label
                 }
                 return;
             }
+            // Nor a hole much wider than the occluder: its lit gap would show (see
+            // [`UNSWALLOWED_GAP`]). The shadow is the hole's left part; the rest is something
+            // else, a depthless object the colour split may pair with its own shadow.
+            if let Some(to) = gap
+                .is_none()
+                .then(|| unswallowed_gap(p, raw, h, w))
+                .flatten()
+            {
+                set(labels, raw, h.start, to, DETACHED);
+                return;
+            }
             DETACHED
         } else {
             ATTACHED
@@ -2101,6 +2112,45 @@ const GAP_ROWS: usize = 5;
 /// How much narrower than the shift (pixels) a hole touching a thin occluder may be and still be
 /// its detached shadow with the lit gap swallowed: the widening and pixel sampling of either end.
 const SWALLOWED_GAP_SLACK: f32 = WIDENING + 1.0;
+
+/// Widest lit gap (pixels: the shift less the occluder's width) that the widening can swallow:
+/// its own at the shadow's right end and the occluder's left edge it eats, each up to
+/// [`WIDENING`], and a pixel of sampling at either end.
+const UNSWALLOWED_GAP: f32 = 2.0 * WIDENING + 2.0;
+
+/// Where the detached shadow in the hole `h` ends, when its thin occluder (Sb, shift `w`) is so
+/// much narrower than the hole that the lit gap between them could not have been swallowed:
+/// then something without depth (a black rod, which Sb stands behind) fills the hole's right
+/// part. The occluder must be one surface, narrower than half its shift (a sphere's cap reads
+/// narrow in its top rows while its limb casts the shadow), and end on the background, so its
+/// whole width shows. (A fresh suite, seed 14142: a black rod closed by a thin rod behind it,
+/// its own shadow OTHER for want of its hole; complex detached F1 +0.013 IR, +0.015 RGB.)
+fn unswallowed_gap(p: &ScanParams, raw: &[u16], h: Run, w: f32) -> Option<usize> {
+    let d_occ = p.disp(raw[h.end]);
+    let end = occluder_end(p, raw, h.end, d_occ, w)?;
+    let o = (end - h.end) as f32;
+    let one_surface = raw[h.end..end]
+        .iter()
+        .all(|&r| (p.disp(r) - d_occ).abs() < p.min_step);
+    let background = raw[end] != NO_DEPTH && d_occ - p.disp(raw[end]) > w - 2.0 * p.min_step;
+    if !(w - o > UNSWALLOWED_GAP && 2.0 * o < w && one_surface && background) {
+        return None;
+    }
+    // Nor may a nearer surface further right cast a shadow reaching the hole (a box past a
+    // strip of background: the hole is its detached shadow, the thin rod's merged into it).
+    let d_bg = p.disp(raw[end]);
+    let reach = ((p.max_disp - d_bg).max(0.0) as usize + 2).min(raw.len() - end);
+    let nearer_casts = raw[end..end + reach].iter().enumerate().any(|(k, &r)| {
+        r != NO_DEPTH && {
+            let shift = p.disp(r) - d_bg;
+            shift >= p.min_step && (end + k) as f32 - shift <= h.end as f32
+        }
+    });
+    (!nearer_casts).then(|| {
+        // The occluder's right edge shifted by `w`: the shadow's right end.
+        ((h.end as f32 - w + o).round().max(0.0) as usize).clamp(h.start, h.end)
+    })
+}
 
 /// True when `row` shows, within a few pixels of `sb`, a lit gap before the occluder (at
 /// disparity `d_occ`, shift `w`): a hole, then one or two valid pixels at the background's
