@@ -47,6 +47,7 @@ use crate::calib::Calibration;
 use crate::labels::{ATTACHED, DETACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
 mod behind_rod;
+mod cut_off;
 mod dark;
 mod dropouts;
 mod face;
@@ -814,6 +815,9 @@ impl ColourSplit {
                             relabel(span, ATTACHED, OTHER);
                             occluder = false;
                         }
+                    }
+                    if occluder && code == ATTACHED {
+                        self.cut_off_by_thin(raw, labels, v, (c.a, c.a + s), (c.bg, shift));
                     }
                     // The occluder's pixels get its depth.
                     if occluder {
