@@ -64,6 +64,14 @@ fn black_box_before_wall() -> Scene {
     scene
 }
 
+/// A scene of `description` with nothing in it but a matte wall of `colour` at `z` metres,
+/// for the objects a test pushes before it.
+fn before_a_wall(description: &str, z: f64, colour: [f64; 3]) -> Scene {
+    let mut scene = Scene::new(description);
+    scene.push("wall", wall(z), umbra::synth::Material::matte(colour));
+    scene
+}
+
 /// Adds a grey vertical rod of `radius` with its axis at (`x`, ·, `z`), crossing the image.
 fn push_grey_rod(scene: &mut Scene, x: f64, z: f64, radius: f64) {
     scene.push(
@@ -392,12 +400,7 @@ fn near_glossy_rod_shadow(
     assert!((55.0..65.0).contains(&shift), "shift {shift}");
     let half = fx * r / z;
     let left = centre - half;
-    let mut scene = Scene::new("a near glossy rod before a wall");
-    scene.push(
-        "wall",
-        wall(3.0),
-        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
-    );
+    let mut scene = before_a_wall("a near glossy rod before a wall", 3.0, [0.8, 0.78, 0.7]);
     scene.push(
         "rod",
         vertical_rod((centre - cx) * z / fx, z, r),
@@ -928,11 +931,10 @@ fn black_box_before_a_wall_beyond_range_past_a_partitions_edge_casts_no_shadow_t
         calib.depth.cx,
         calib.depth.cy,
     );
-    let mut scene = Scene::new("black box before a wall beyond range, past a partition");
-    scene.push(
-        "wall",
-        umbra::synth::scene::wall(5.4),
-        umbra::synth::Material::matte([0.8, 0.8, 0.76]),
+    let mut scene = before_a_wall(
+        "black box before a wall beyond range, past a partition",
+        5.4,
+        [0.8, 0.8, 0.76],
     );
     let x_edge = (395.0 - cx) / fx * 3.6;
     push_box(
@@ -6194,11 +6196,10 @@ fn pale_glossy_cylinders_shadow_on_a_wall_of_nearly_its_colour_is_split_off() {
     let centre_u = cx + 20.0;
     let shadow = fb * (1.0 / z - 1.0 / z_wall);
     assert!((15.0..21.0).contains(&shadow), "{shadow}");
-    let mut scene = Scene::new("a pale glossy cylinder before a beige wall");
-    scene.push(
-        "wall",
-        wall(z_wall),
-        umbra::synth::Material::matte([0.88, 0.85, 0.80]),
+    let mut scene = before_a_wall(
+        "a pale glossy cylinder before a beige wall",
+        z_wall,
+        [0.88, 0.85, 0.80],
     );
     scene.push(
         "cylinder",
@@ -6256,11 +6257,10 @@ fn black_rods_hole_closed_by_a_thin_rod_behind_it_is_no_shadow_of_that_rod() {
     let t_centre = cx + half + 0.3 + t_half;
     let shadow = (cx - half - shift).ceil() as usize + 1..(cx + half - shift) as usize - 1;
     let rod = (cx - half) as usize + 3..(cx + half) as usize - 1;
-    let mut scene = Scene::new("a black rod closed by a thin rod behind it");
-    scene.push(
-        "wall",
-        wall(2.0),
-        umbra::synth::Material::matte([0.75, 0.72, 0.62]),
+    let mut scene = before_a_wall(
+        "a black rod closed by a thin rod behind it",
+        2.0,
+        [0.75, 0.72, 0.62],
     );
     scene.push(
         "black rod",
