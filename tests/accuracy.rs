@@ -384,15 +384,17 @@ fn glossy_rods_detached_shadow_is_found_where_its_limb_returns_depth() {
 /// shadow lies f·b·(1/0.6 − 1/3) ≈ 58 px further left (a lit gap of about 21 px). Renders one
 /// frame (`seed`) and scores the rows 40..440 where the simulator puts a shadow of at least
 /// `min_len` px among `cols` starting within 4 px of the hand computation, and `row_ok` holds
-/// (a speckle's hole may join the shadow's start: such rows are not scored). Returns the rows
-/// scored, the detached recall over them, and the rod's own pixels read as anything but OTHER.
+/// (a speckle's hole may join the shadow's start: such rows are not scored). Asserts that at
+/// least `min_rows` rows are scored (`what` they hold), that the detached recall over them is
+/// at least 0.85, and that none of the rod's own pixels is read as anything but OTHER.
 fn near_glossy_rod_shadow(
     centre: f64,
     extra: impl FnOnce(&mut Scene),
     seed: u64,
     (cols, min_len): (std::ops::Range<usize>, usize),
     row_ok: impl Fn(&SynthFrame, usize) -> bool,
-) -> (usize, f64, usize) {
+    (min_rows, what): (usize, &str),
+) {
     let calib = Calibration::nyu_default();
     let (cx, fx, fb) = (calib.depth.cx, calib.depth.fx, calib.fb());
     let (z, r) = (0.6, 0.019);
@@ -432,7 +434,10 @@ fn near_glossy_rod_shadow(
             .filter(|&u| frame.ir_labels[row + u] == OTHER && out.ir_labels[row + u] != OTHER)
             .count();
     }
-    (rows, found as f64 / truth.max(1) as f64, wrong)
+    assert!(rows >= min_rows, "{rows} of 400 rows {what}");
+    let recall = found as f64 / truth.max(1) as f64;
+    assert!(recall >= 0.85, "detached recall {recall:.3}");
+    assert_eq!(wrong, 0, "pixels of the rod itself read as its shadow");
 }
 
 #[test]
@@ -455,14 +460,14 @@ fn glossy_rods_detached_shadow_is_found_with_the_rod_by_the_right_border() {
             .count();
         (1..4).contains(&n)
     };
-    let (rows, recall, wrong) =
-        near_glossy_rod_shadow(635.5 - half, |_| {}, 5, (500..620, 20), wall_right);
-    assert!(
-        rows >= 360,
-        "{rows} of 400 rows have the shadow and the wall where they belong"
+    near_glossy_rod_shadow(
+        635.5 - half,
+        |_| {},
+        5,
+        (500..620, 20),
+        wall_right,
+        (360, "have the shadow and the wall where they belong"),
     );
-    assert!(recall >= 0.85, "detached recall {recall:.3}");
-    assert_eq!(wrong, 0, "pixels of the rod itself read as its shadow");
 }
 
 #[test]
@@ -492,13 +497,14 @@ fn glossy_rods_detached_shadow_is_found_where_a_rod_behind_it_shadows_its_edge()
         (420..436).any(|u| frame.ir_labels[row + u] == DETACHED)
             && (428..436).all(|u| frame.raw[row + u] == NO_DEPTH)
     };
-    let (rows, recall, wrong) = near_glossy_rod_shadow(450.0, thin_rod, 11, (340..420, 30), joined);
-    assert!(
-        rows >= 250,
-        "{rows} of 400 rows hold both shadows where they belong"
+    near_glossy_rod_shadow(
+        450.0,
+        thin_rod,
+        11,
+        (340..420, 30),
+        joined,
+        (250, "hold both shadows where they belong"),
     );
-    assert!(recall >= 0.85, "detached recall {recall:.3}");
-    assert_eq!(wrong, 0, "pixels of the glossy rod itself read as shadow");
 }
 
 #[test]
