@@ -1843,11 +1843,12 @@ fn label_attached(p: &ScanParams, raw: &[u16], h: Run, w: f32, rows: Rows, label
             // Nor a hole much wider than the occluder: its lit gap would show (see
             // [`UNSWALLOWED_GAP`]). The shadow is the hole's left part; the rest is something
             // else, a depthless object the colour split may pair with its own shadow.
-            if let Some(to) = gap
-                .is_none()
-                .then(|| unswallowed_gap(p, raw, h, w))
-                .flatten()
-            {
+            // (A lit gap that shows is no swallowed one.)
+            let shadow_end = match gap {
+                None => unswallowed_gap(p, raw, h, w),
+                Some(_) => None,
+            };
+            if let Some(to) = shadow_end {
                 set(labels, raw, h.start, to, DETACHED);
                 return;
             }
