@@ -6366,3 +6366,65 @@ fn black_boxs_shadow_cut_off_by_a_thin_rod_standing_in_it_is_detached() {
         "detached recall {recall:.3} over {rows} rows"
     );
 }
+
+#[test]
+fn box_shadow_beside_a_thin_rod_at_the_boxs_depth_is_attached() {
+    // The hand-computed box moved to 1.6 m (front face x = −0.2..0.2 m) before a wall at 3 m: its
+    // attached shadow is f·b·(1/1.6 − 1/3) = 12.7 px wide, left of its left edge at
+    // cx − fx·0.2/1.6 = cx − 72.8. A thin rod, r = 6 mm (4.4 px) at the box's depth, stands at
+    // that shadow's left end with a pixel of lit wall left of it: the hole between rod and box is
+    // the box's shadow, about 10 px, with Sa (the rod) and Sb (the box) at one depth. Read as a
+    // dropout inside one surface, it was OTHER (attached recall 0.58). The rod's own shadow falls
+    // 12.7 px further left (it is narrower than its shift, so it casts no attached one).
+    let calib = Calibration::nyu_default();
+    let (cx, fx, fb) = (calib.depth.cx, calib.depth.fx, calib.fb());
+    let (z, r) = (1.6, 0.006);
+    let w = fb * (1.0 / z - 1.0 / 3.0);
+    let box_left = cx - fx * 0.2 / z;
+    let rod_half = fx * r / z;
+    let rod_centre = box_left - w - 1.0 + rod_half;
+    let mut scene = Scene::box_before_wall(z, 3.0);
+    scene.push(
+        "thin rod",
+        vertical_rod((rod_centre - cx) * z / fx, z, r),
+        umbra::synth::Material::matte([0.6, 0.6, 0.65]),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 5);
+    let out = classify(&calib, &frame);
+    let between = (rod_centre + rod_half).ceil() as usize + 1..box_left as usize;
+    let (mut rows, mut truth, mut found, mut wrong) = (0, 0, 0, 0);
+    for v in 0..HEIGHT {
+        let row = v * WIDTH;
+        let attached = |labels: &[u8]| {
+            between
+                .clone()
+                .filter(|&u| labels[row + u] == ATTACHED)
+                .count()
+        };
+        // Rows where the simulator puts the box's shadow between rod and box, the rod measured,
+        // and lit wall left of it.
+        let left = (rod_centre - rod_half).floor() as usize - 1;
+        if attached(&frame.ir_labels) < between.len()
+            || frame.raw[row + rod_centre as usize] == NO_DEPTH
+            || frame.raw[row + left] == NO_DEPTH
+        {
+            // Nothing casts an attached shadow here (the rod's is detached).
+            wrong += count_in_row(&out.ir_labels, v, ATTACHED)
+                * usize::from(count_in_row(&frame.ir_labels, v, ATTACHED) == 0);
+            continue;
+        }
+        rows += 1;
+        truth += between.len();
+        found += attached(&out.ir_labels);
+    }
+    assert!(
+        rows >= 120,
+        "the scene has the box's shadow beside the rod in {rows} rows"
+    );
+    let recall = found as f64 / truth as f64;
+    assert!(
+        recall >= 0.95,
+        "attached recall {recall:.3} over {rows} rows"
+    );
+    assert_eq!(wrong, 0, "attached pixels in rows without the box's shadow");
+}

@@ -1287,8 +1287,9 @@ fn hidden_background(
         ..
     } = context;
     // Sa must be a surface of its own, off Sb's (a dropout inside one surface is not a shadow:
-    // most holes of a real frame stop here).
-    if (p.disp(sa.near) - p.disp(sb.near)).abs() < p.min_step {
+    // most holes of a real frame stop here), unless it stands apart at Sb's depth.
+    let apart = || thin_sa_apart(p, raw, h, sa);
+    if (p.disp(sa.near) - p.disp(sb.near)).abs() < p.min_step && !apart() {
         return;
     }
     // What the hole's own columns show above it: a surface there that is Sb itself (a hole
@@ -1360,7 +1361,7 @@ fn hidden_background(
     // columns (a glossy rod before a turned box, its shadow on the wall above the box).
     // (Fourth simulator, 44 suites: complex IR attached F1 +0.045 summed, precision +0.062,
     // j44 +0.010; simple +0.025; this project's suites within ±0.0003, the real frame unchanged.)
-    if labels[h.start] == ATTACHED && one_surface(p, raw, h, sa, sb, p.min_step) {
+    if labels[h.start] == ATTACHED && one_surface(p, raw, h, sa, sb, p.min_step) && !apart() {
         set(labels, raw, h.start, h.end, OTHER);
         return;
     }
@@ -1676,6 +1677,30 @@ fn beside_thin_sa(
         .filter(|line| line.slope < 0.0 && line.fits(raw, (from, end), disp, p.min_step))
         .is_some_and(|line| line.disp_at(h.end) < p.disp(range.far) - p.min_step);
     (d_sa - p.disp(bg) >= p.min_step && !leaves_range).then_some(bg)
+}
+
+/// True when Sa is an object of its own narrower than its shift, with the lit background
+/// directly left of it: an object's left edge has its attached shadow directly left (the
+/// projector lies to the right), so a strip of Sb's own surface left of a dropout would have a
+/// hole there. Such an Sa is apart from Sb even at Sb's depth (a rod beside a box, standing in
+/// the box's shadow, its own shadow detached further left).
+/// The background must go on left of its first pixel (past the holes of Sa's shadow on it): a
+/// lone outlier of a noisy surface is no background.
+fn thin_sa_apart(p: &ScanParams, raw: &[u16], h: Run, sa: Bound) -> bool {
+    let run = sa_run(p, raw, h, sa);
+    let Some(at) = h.start.checked_sub(run + 1) else {
+        return false;
+    };
+    let left = raw[at];
+    let shift = p.disp(sa.edge) - p.disp(left);
+    let goes_on = || {
+        raw[..at]
+            .iter()
+            .rev()
+            .find(|&&r| r != NO_DEPTH)
+            .is_some_and(|&r| (p.disp(r) - p.disp(left)).abs() < p.min_step)
+    };
+    left != NO_DEPTH && shift >= p.min_step && (run as f32) < shift && goes_on()
 }
 
 /// Measured pixels of the surface left of a thin Sa through which [`beside_thin_sa`] draws its
