@@ -6428,3 +6428,53 @@ fn box_shadow_beside_a_thin_rod_at_the_boxs_depth_is_attached() {
     );
     assert_eq!(wrong, 0, "attached pixels in rows without the box's shadow");
 }
+
+#[test]
+fn rods_shadow_mostly_hidden_by_a_thin_rod_before_it_is_detached() {
+    // A wall at 3 m; rod A, r = 8 mm at 1.5 m (6.2 px wide), casts its detached shadow
+    // f·b·(1/1.5 − 1/3) = 14.6 px left of itself. Rod B, r = 7 mm at 1.55 m (5.3 px), stands
+    // with its left edge 2 px into that shadow: 2 px of it show between the wall and B, 4 px
+    // lie behind B. B is narrower than its own shift (13.6 px), so it casts no attached shadow
+    // there: the hole is A's. The search must pass B to reach A, which it did not for a hole
+    // under six pixels (speckle), and eq. (5) holds against the wall with the shadow's right
+    // end anywhere behind B (4 px past the hole's end, beyond the tolerance): it was OTHER.
+    let calib = Calibration::nyu_default();
+    let (cx, fx, fb) = (calib.depth.cx, calib.depth.fx, calib.fb());
+    let (z_a, r_a, z_b, r_b) = (1.5, 0.008, 1.55, 0.007);
+    let (half_a, shift_a) = (fx * r_a / z_a, fb * (1.0 / z_a - 1.0 / 3.0));
+    let half_b = fx * r_b / z_b;
+    let u_a = cx + 40.0;
+    let b_left = u_a - half_a - shift_a + 2.0;
+    let u_b = b_left + half_b;
+    let mut scene = before_a_wall(
+        "a rod's shadow mostly hidden by a thin rod",
+        3.0,
+        [0.8, 0.78, 0.7],
+    );
+    push_grey_rod(&mut scene, (u_a - cx) * z_a / fx, z_a, r_a);
+    push_grey_rod(&mut scene, (u_b - cx) * z_b / fx, z_b, r_b);
+    let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 3);
+    let out = classify(&calib, &frame);
+    // What shows of A's shadow: from its left end to B.
+    let shadow = (u_a - half_a - shift_a).floor() as usize - 3..b_left.ceil() as usize;
+    let (mut truth, mut found, mut rows) = (0, 0, 0);
+    for v in 0..HEIGHT {
+        let row = v * WIDTH;
+        let ours: Vec<usize> = shadow
+            .clone()
+            .filter(|&u| frame.ir_labels[row + u] == DETACHED)
+            .collect();
+        rows += usize::from(!ours.is_empty());
+        truth += ours.len();
+        found += ours
+            .iter()
+            .filter(|&&u| out.ir_labels[row + u] == DETACHED)
+            .count();
+    }
+    assert!(rows >= 400, "A's shadow shows beside B in {rows} rows");
+    let recall = found as f64 / truth as f64;
+    assert!(
+        recall >= 0.9,
+        "detached recall {recall:.3} over {truth} px in {rows} rows"
+    );
+}

@@ -1946,7 +1946,7 @@ fn behind_thin_sb(p: &ScanParams, raw: &[u16], h: Run, rows: Rows) -> bool {
         near: sa.far,
     };
     matches!(
-        search_occluder(p, raw, h, Some(sa), bg, rows, false, false),
+        search_occluder(p, raw, h, Some(sa), bg, rows, Search::BehindThinSb),
         Detached::Measured
     )
 }
@@ -2365,7 +2365,7 @@ fn detached(
     sb: Bound,
     rows: Rows,
 ) -> Detached {
-    search_occluder(p, raw, h, sa, sb, rows, true, false)
+    search_occluder(p, raw, h, sa, sb, rows, Search::Any)
 }
 
 /// [`detached`] with Sb itself ruled out as the occluder: only one standing clear of the hole,
@@ -2390,7 +2390,7 @@ fn detached_beyond_sb(
         .count();
     sb_run <= THIN_SB
         && matches!(
-            search_occluder(p, raw, h, Some(sa), sb, rows, true, true),
+            search_occluder(p, raw, h, Some(sa), sb, rows, Search::BeyondSb),
             Detached::Measured
         )
 }
@@ -2406,10 +2406,25 @@ const TAIL_HIDER: f32 = 3.0;
 /// shadows (counted instructions of the benchmark's busy frame +4.7 % without a limit, +2.0 %).
 const THIN_SB: usize = 8;
 
-/// [`detached`], with `pairs` false for a measured occluder only: holes in the lit gap are
-/// stepped over as dropouts, never paired as a depthless occluder and its shadow; with
-/// `beyond_sb`, [`detached_beyond_sb`].
-#[allow(clippy::too_many_arguments)]
+/// What [`search_occluder`] looks for.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Search {
+    /// Any occluder, one without depth too ([`detached`]).
+    Any,
+    /// A measured occluder only: holes in the lit gap are stepped over as dropouts, never
+    /// paired as a depthless occluder and its shadow.
+    Measured,
+    /// [`detached_beyond_sb`].
+    BeyondSb,
+    /// [`behind_thin_sb`]: a measured occluder past Sb, which stands before the shadow's right
+    /// end. Sb is passed even for a narrow hole (what shows of a shadow Sb hides may be a
+    /// pixel or two), which the search does not do for others: speckle beside a nearer
+    /// surface is common, a thin Sb clear of its own shadow is not. Eq. (5) then puts the
+    /// shadow's right end anywhere behind Sb, up to its width past the hole.
+    BehindThinSb,
+}
+
+/// Eqs. (4)–(5): the occluder right of the hole `h` whose detached shadow it is, if any.
 fn search_occluder(
     p: &ScanParams,
     raw: &[u16],
@@ -2417,9 +2432,10 @@ fn search_occluder(
     sa: Option<Bound>,
     sb: Bound,
     rows: Rows,
-    pairs: bool,
-    beyond_sb: bool,
+    search: Search,
 ) -> Detached {
+    let pairs = matches!(search, Search::Any | Search::BeyondSb);
+    let beyond_sb = search == Search::BeyondSb;
     let n = raw.len();
     let d_sb = p.disp(sb.far);
     // A hole at the left border (no Sa) lies on the background Sb shows.
@@ -2453,6 +2469,8 @@ fn search_occluder(
     let mut gap_holes = 0;
     let mut stepped = 0;
     let mut passed = 0;
+    // Behind a thin Sb the search passed, the shadow's right end may lie anywhere up to Sb's end.
+    let mut behind_sb = 0.0;
     // Right end (pixels) of the shadows of a chain of occluders whose first fits eq. (4) and
     // whose shadows overlap: thin objects side by side cast one merged hole (SPEC §1).
     let mut chain: Option<f32> = None;
@@ -2502,8 +2520,7 @@ fn search_occluder(
                                 Some(bound_left(raw, start)),
                                 bound_right(raw, end),
                                 rows,
-                                false,
-                                false
+                                Search::Measured
                             ),
                             Detached::Measured
                         );
@@ -2612,7 +2629,8 @@ fn search_occluder(
             } else {
                 0.0
             };
-            let fits5 = e5 + 1.0 <= p.tol && (cut || e5 + hidden_right + 1.0 >= -p.tol - WIDENING);
+            let fits5 = e5 + 1.0 <= p.tol + behind_sb
+                && (cut || e5 + hidden_right + 1.0 >= -p.tol - WIDENING);
             // Sb's first pixels are no occluder standing clear of the hole.
             if fits4 && fits5 && cut_fits && !(beyond_sb && fa <= h.end + 1) {
                 return Detached::Measured;
@@ -2661,8 +2679,12 @@ fn search_occluder(
             // Not this one: the projector's ray may have passed beside it to an occluder further
             // right (a thin rod before a box, the box's own shadow between them).
             passed += 1;
-            if passed > MAX_PASSED_OBJECTS || h.end - h.start < MIN_STEP_OVER {
+            let past_sb = search == Search::BehindThinSb && fa == h.end;
+            if passed > MAX_PASSED_OBJECTS || (h.end - h.start < MIN_STEP_OVER && !past_sb) {
                 return no(head);
+            }
+            if past_sb {
+                behind_sb = (fb + 1 - fa) as f32;
             }
             u = fb + 1;
             continue;
@@ -3103,8 +3125,7 @@ fn shows_its_start(p: &ScanParams, rows: Rows, from: usize, end: usize) -> bool 
                             Some(bound_left(row, run.start)),
                             bound_right(row, run.end),
                             none,
-                            false,
-                            false
+                            Search::Measured
                         ),
                         Detached::Measured
                     ),
