@@ -1684,6 +1684,7 @@ fn beside_thin_sa(
 /// projector lies to the right), so a strip of Sb's own surface left of a dropout would have a
 /// hole there. Such an Sa is apart from Sb even at Sb's depth (a rod beside a box, standing in
 /// the box's shadow, its own shadow detached further left).
+///
 /// The background must go on left of its first pixel (past the holes of Sa's shadow on it): a
 /// lone outlier of a noisy surface is no background.
 fn thin_sa_apart(p: &ScanParams, raw: &[u16], h: Run, sa: Bound) -> bool {
@@ -1714,7 +1715,7 @@ fn thin_sa_apart(p: &ScanParams, raw: &[u16], h: Run, sa: Bound) -> bool {
     left != NO_DEPTH && shift >= p.min_step && (run as f32) < shift && goes_on()
 }
 
-/// Widest Sa (pixels) [`thin_sa_apart`] takes for an object apart from Sb: a rod of 2 cm at
+/// Widest Sa (pixels) [`thin_sa_apart`] takes for an object apart from Sb: a rod 2 cm thick at
 /// 0.7 m, whose shift against a wall 3 m away would be 48 px.
 const THIN_APART: usize = 16;
 
