@@ -6478,3 +6478,53 @@ fn rods_shadow_mostly_hidden_by_a_thin_rod_before_it_is_detached() {
         "detached recall {recall:.3} over {truth} px in {rows} rows"
     );
 }
+
+#[test]
+fn shadow_of_a_rod_cut_by_the_border_behind_a_thin_rod_is_detached() {
+    // A wall at 2.5 m; rod A, r = 1 cm at 0.8 m (14.6 px wide), standing at the image's right
+    // border with only its left 3 px in view. Its shadow lies f·b·(1/0.8 − 1/2.5) = 37.1 px left
+    // of it, a lit gap of 22 px between (A is narrower than its shift). A rod B, r = 8 mm at
+    // 1.5 m (6.2 px), stands over the shadow's left 6 px. What shows of the shadow (about 10 px)
+    // is wider than what shows of A: eqs. (4)–(5) fit it (eq. 4 reaching behind B), but the test
+    // of a shadow cut by a nearer surface (no wider than its occluder plus the widening) read
+    // A's 3 px as its width: OTHER in every row.
+    let calib = Calibration::nyu_default();
+    let (cx, fx, fb) = (calib.depth.cx, calib.depth.fx, calib.fb());
+    let (z_a, r_a, z_b, r_b) = (0.8, 0.01, 1.5, 0.008);
+    let (half_a, shift_a) = (fx * r_a / z_a, fb * (1.0 / z_a - 1.0 / 2.5));
+    let u_a = WIDTH as f64 - 3.0 + fx * 0.01 / 0.8;
+    let shadow_from = u_a - half_a - shift_a;
+    let half_b = fx * r_b / z_b;
+    let u_b = shadow_from + 6.0 - fx * 0.008 / 1.5;
+    let mut scene = before_a_wall(
+        "a rod cut by the border, its shadow behind a thin rod",
+        2.5,
+        [0.8, 0.78, 0.7],
+    );
+    push_grey_rod(&mut scene, (u_a - cx) * z_a / fx, z_a, r_a);
+    push_grey_rod(&mut scene, (u_b - cx) * z_b / fx, z_b, r_b);
+    let frame = render_frame(&scene, &calib, &SensorModel::kinect(), 9);
+    let out = classify(&calib, &frame);
+    // What shows of A's shadow: from B's right edge to its geometric end.
+    let shadow = (u_b + half_b).ceil() as usize + 1..(u_a + half_a - shift_a) as usize;
+    let (mut truth, mut found, mut rows) = (0, 0, 0);
+    for v in 0..HEIGHT {
+        let row = v * WIDTH;
+        let ours: Vec<usize> = shadow
+            .clone()
+            .filter(|&u| frame.ir_labels[row + u] == DETACHED)
+            .collect();
+        rows += usize::from(!ours.is_empty());
+        truth += ours.len();
+        found += ours
+            .iter()
+            .filter(|&&u| out.ir_labels[row + u] == DETACHED)
+            .count();
+    }
+    assert!(rows >= 400, "A's shadow shows right of B in {rows} rows");
+    let recall = found as f64 / truth as f64;
+    assert!(
+        recall >= 0.9,
+        "detached recall {recall:.3} over {truth} px in {rows} rows"
+    );
+}

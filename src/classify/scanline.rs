@@ -2625,10 +2625,6 @@ fn search_occluder(
             // Pixel sampling puts e4 at about +1 and e5 at about −1 for an ideal shadow. The
             // sensor's widening moves the hole's left end left (e4 grows) and its right end right
             // (e5 shrinks), never the other way: the tolerance is that much wider on that side.
-            // A shadow cut by a nearer surface shows no more than the occluder's width (plus the
-            // widening of its right end): the tolerances of both equations must not add up.
-            let cut_fits =
-                hidden == 0.0 || (h.end - h.start) as f32 <= (fb + 1 - fa) as f32 + WIDENING + 1.0;
             // A nearer object just left of the occluder (a rod before a rod) may hide the
             // occluder's left edge, up to its own width: its shadow may start that much further
             // left than what shows of it casts (never further right). Counted only when needed.
@@ -2645,6 +2641,12 @@ fn search_occluder(
             } else {
                 0.0
             };
+            // A shadow cut by a nearer surface shows no more than the occluder's width (plus the
+            // widening of its right end): the tolerances of both equations must not add up. What
+            // shows of an occluder cut by the border or a hole bounds its width from below only.
+            let width = (h.end - h.start) as f32;
+            let shown = (fb + 1 - fa) as f32 + WIDENING + 1.0;
+            let cut_fits = hidden == 0.0 || width <= shown || cut || width <= shown + hidden_right;
             let fits5 = e5 + 1.0 <= p.tol + behind_sb
                 && (cut || e5 + hidden_right + 1.0 >= -p.tol - WIDENING);
             // Sb's first pixels are no occluder standing clear of the hole.
@@ -2658,7 +2660,7 @@ fn search_occluder(
             // Past the left border, or behind a nearer object standing left of the hole, the
             // hole's left part may be something else the shadow merged with (a region beyond
             // range, the nearer object's own dropout): only eq. (5) can be read.
-            if hidden >= TAIL_HIDER && fits5 && !cut_fits {
+            if hidden >= TAIL_HIDER && fits5 && width > shown {
                 // The widening moves the shadow's left end left as well.
                 let from = (shadow_start - WIDENING).floor().max(h.start as f32) as usize;
                 if from > h.start && from < h.end && shows_its_start(p, rows, from, h.end) {
