@@ -72,6 +72,27 @@ fn before_a_wall(description: &str, z: f64, colour: [f64; 3]) -> Scene {
     scene
 }
 
+/// Over the rows where `frame`'s ground truth holds detached pixels in the columns `us`: how
+/// many such rows and pixels there are, and how many of those pixels `labels` calls detached.
+fn detached_in_columns(
+    frame: &SynthFrame,
+    labels: &[u8],
+    us: std::ops::Range<usize>,
+) -> (usize, usize, usize) {
+    let (mut rows, mut truth, mut found) = (0, 0, 0);
+    for v in 0..HEIGHT {
+        let row = v * WIDTH;
+        let ours = us.clone().filter(|&u| frame.ir_labels[row + u] == DETACHED);
+        let (n, hit) = ours.fold((0, 0), |(n, hit), u| {
+            (n + 1, hit + usize::from(labels[row + u] == DETACHED))
+        });
+        rows += usize::from(n > 0);
+        truth += n;
+        found += hit;
+    }
+    (rows, truth, found)
+}
+
 /// Adds a grey vertical rod of `radius` with its axis at (`x`, ·, `z`), crossing the image.
 fn push_grey_rod(scene: &mut Scene, x: f64, z: f64, radius: f64) {
     scene.push(
@@ -6457,20 +6478,7 @@ fn rods_shadow_mostly_hidden_by_a_thin_rod_before_it_is_detached() {
     let out = classify(&calib, &frame);
     // What shows of A's shadow: from its left end to B.
     let shadow = (u_a - half_a - shift_a).floor() as usize - 3..b_left.ceil() as usize;
-    let (mut truth, mut found, mut rows) = (0, 0, 0);
-    for v in 0..HEIGHT {
-        let row = v * WIDTH;
-        let ours: Vec<usize> = shadow
-            .clone()
-            .filter(|&u| frame.ir_labels[row + u] == DETACHED)
-            .collect();
-        rows += usize::from(!ours.is_empty());
-        truth += ours.len();
-        found += ours
-            .iter()
-            .filter(|&&u| out.ir_labels[row + u] == DETACHED)
-            .count();
-    }
+    let (rows, truth, found) = detached_in_columns(&frame, &out.ir_labels, shadow);
     assert!(rows >= 400, "A's shadow shows beside B in {rows} rows");
     let recall = found as f64 / truth as f64;
     assert!(
@@ -6507,20 +6515,7 @@ fn shadow_of_a_rod_cut_by_the_border_behind_a_thin_rod_is_detached() {
     let out = classify(&calib, &frame);
     // What shows of A's shadow: from B's right edge to its geometric end.
     let shadow = (u_b + half_b).ceil() as usize + 1..(u_a + half_a - shift_a) as usize;
-    let (mut truth, mut found, mut rows) = (0, 0, 0);
-    for v in 0..HEIGHT {
-        let row = v * WIDTH;
-        let ours: Vec<usize> = shadow
-            .clone()
-            .filter(|&u| frame.ir_labels[row + u] == DETACHED)
-            .collect();
-        rows += usize::from(!ours.is_empty());
-        truth += ours.len();
-        found += ours
-            .iter()
-            .filter(|&&u| out.ir_labels[row + u] == DETACHED)
-            .count();
-    }
+    let (rows, truth, found) = detached_in_columns(&frame, &out.ir_labels, shadow);
     assert!(rows >= 400, "A's shadow shows right of B in {rows} rows");
     let recall = found as f64 / truth as f64;
     assert!(

@@ -2646,7 +2646,7 @@ fn search_occluder(
             // shows of an occluder cut by the border or a hole bounds its width from below only.
             let width = (h.end - h.start) as f32;
             let shown = (fb + 1 - fa) as f32 + WIDENING + 1.0;
-            let cut_fits = hidden == 0.0 || width <= shown || cut || width <= shown + hidden_right;
+            let cut_fits = hidden == 0.0 || cut || width <= shown + hidden_right;
             let fits5 = e5 + 1.0 <= p.tol + behind_sb
                 && (cut || e5 + hidden_right + 1.0 >= -p.tol - WIDENING);
             // Sb's first pixels are no occluder standing clear of the hole.
