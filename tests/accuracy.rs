@@ -72,6 +72,16 @@ fn before_a_wall(description: &str, z: f64, colour: [f64; 3]) -> Scene {
     scene
 }
 
+/// Asserts that `found` of `truth` pixels of a class, `what`, over `rows` rows reach a recall of
+/// `min`.
+fn assert_recall(what: &str, found: usize, truth: usize, rows: usize, min: f64) {
+    let recall = found as f64 / truth as f64;
+    assert!(
+        recall >= min,
+        "{what} recall {recall:.3} ({found} of {truth} px) over {rows} rows"
+    );
+}
+
 /// Over the rows where `frame`'s ground truth holds detached pixels in the columns `us`: how
 /// many such rows and pixels there are, and how many of those pixels `labels` calls detached.
 fn detached_in_columns(
@@ -5836,11 +5846,7 @@ fn black_rods_hole_run_into_another_rods_shadow_still_pairs_with_its_own_shadow(
             .count();
     }
     assert!(rows >= 200, "the scene has the merged holes in {rows} rows");
-    let recall = found as f64 / truth as f64;
-    assert!(
-        recall >= 0.9,
-        "detached recall {recall:.3} over {rows} rows"
-    );
+    assert_recall("detached", found, truth, rows, 0.9);
     assert_eq!(wrong, 0, "pixels of rod A read as a shadow");
 }
 
@@ -5909,11 +5915,7 @@ fn rods_attached_shadow_leaves_the_part_a_nearer_box_shades_to_the_box() {
         kept += count(&out.ir_labels, &attached, ATTACHED);
     }
     assert!(rows >= 250, "the scene shows both shadows in {rows} rows");
-    let recall = found as f64 / truth as f64;
-    assert!(
-        recall >= 0.9,
-        "detached recall {recall:.3} over {rows} rows"
-    );
+    assert_recall("detached", found, truth, rows, 0.9);
     let attached_recall = kept as f64 / att as f64;
     assert!(
         attached_recall >= 0.9,
@@ -6326,11 +6328,7 @@ fn black_rods_hole_closed_by_a_thin_rod_behind_it_is_no_shadow_of_that_rod() {
         rows >= 200,
         "the scene has the shadow and the closed hole in {rows} rows"
     );
-    let recall = found as f64 / truth as f64;
-    assert!(
-        recall >= 0.9,
-        "detached recall {recall:.3} over {rows} rows"
-    );
+    assert_recall("detached", found, truth, rows, 0.9);
     assert!(
         wrong <= rows,
         "{wrong} pixels of the black rod over {rows} rows read as a shadow"
@@ -6379,13 +6377,9 @@ fn black_boxs_shadow_cut_off_by_a_thin_rod_standing_in_it_is_detached() {
         found += count(&out.ir_labels);
     }
     assert!(rows >= 150, "the scene has the cut-off part in {rows} rows");
-    let recall = found as f64 / truth as f64;
     // 0.77 (0.000 before): rows where the colour split finds no box leave their cut-off
     // part to the rows around, less its ends, which differ from row to row.
-    assert!(
-        recall >= 0.7,
-        "detached recall {recall:.3} over {rows} rows"
-    );
+    assert_recall("detached", found, truth, rows, 0.7);
 }
 
 #[test]
@@ -6442,11 +6436,7 @@ fn box_shadow_beside_a_thin_rod_at_the_boxs_depth_is_attached() {
         rows >= 120,
         "the scene has the box's shadow beside the rod in {rows} rows"
     );
-    let recall = found as f64 / truth as f64;
-    assert!(
-        recall >= 0.95,
-        "attached recall {recall:.3} over {rows} rows"
-    );
+    assert_recall("attached", found, truth, rows, 0.95);
     assert_eq!(wrong, 0, "attached pixels in rows without the box's shadow");
 }
 
@@ -6480,11 +6470,7 @@ fn rods_shadow_mostly_hidden_by_a_thin_rod_before_it_is_detached() {
     let shadow = (u_a - half_a - shift_a).floor() as usize - 3..b_left.ceil() as usize;
     let (rows, truth, found) = detached_in_columns(&frame, &out.ir_labels, shadow);
     assert!(rows >= 400, "A's shadow shows beside B in {rows} rows");
-    let recall = found as f64 / truth as f64;
-    assert!(
-        recall >= 0.9,
-        "detached recall {recall:.3} over {truth} px in {rows} rows"
-    );
+    assert_recall("detached", found, truth, rows, 0.9);
 }
 
 #[test]
@@ -6517,9 +6503,5 @@ fn shadow_of_a_rod_cut_by_the_border_behind_a_thin_rod_is_detached() {
     let shadow = (u_b + half_b).ceil() as usize + 1..(u_a + half_a - shift_a) as usize;
     let (rows, truth, found) = detached_in_columns(&frame, &out.ir_labels, shadow);
     assert!(rows >= 400, "A's shadow shows right of B in {rows} rows");
-    let recall = found as f64 / truth as f64;
-    assert!(
-        recall >= 0.9,
-        "detached recall {recall:.3} over {truth} px in {rows} rows"
-    );
+    assert_recall("detached", found, truth, rows, 0.9);
 }
