@@ -222,6 +222,9 @@ const SWALLOWED_MIN: f64 = 3.0;
 const MIN_STRIP: usize = 6;
 /// How far (RGB columns) an occluder's colour edge may lie from where a split's layout puts it.
 const EDGE_NEAR: usize = 6;
+/// How far (pixels) [`ColourSplit::slant_blend`] looks for the hole's start in the rows above
+/// and below.
+const SLANT_REACH: usize = 32;
 /// Share of the frame's widening ([`ColourSplit::widen`]) by which a depthless occluder's right
 /// edge lies left of its hole's end, where [`ColourSplit::right_edge`] reads it: the sensor
 /// widens the hole into the surface after it too, and the RGB camera sees that surface over the
@@ -1908,6 +1911,36 @@ impl ColourSplit {
         )
     }
 
+    /// How many of a split's shadow columns next to the occluder a soft lens may blend with it
+    /// where its edge slants: the pixels the hole's start moves from row to row (half its move
+    /// from the row above to the row below; 0 behind a nearer surface or where either row has no
+    /// hole start within [`SLANT_REACH`]). The lens blurs across rows too, and along an edge
+    /// that moves several pixels a row the rows next to this one show the occluder over as many
+    /// of its columns: a black box's top edge at a sixth of a pixel's rise per column left the
+    /// last five columns of its shadow 40 darker than the wall, and its mean past the
+    /// background's step (the noisier sensor and soft lens, seed 24680, scene 029).
+    fn slant_blend(&self, raw: &[u16], v: usize, c: Candidate) -> usize {
+        if c.behind || v == 0 || v + 1 >= HEIGHT {
+            return 0;
+        }
+        let start = |w: usize| {
+            let row = &raw[w * WIDTH..(w + 1) * WIDTH];
+            if row[c.a] == NO_DEPTH {
+                let reach = c.a.saturating_sub(SLANT_REACH);
+                (reach..c.a)
+                    .rev()
+                    .find(|&x| row[x] != NO_DEPTH)
+                    .map(|x| x + 1)
+            } else {
+                (c.a..(c.a + SLANT_REACH).min(c.b)).find(|&x| row[x] == NO_DEPTH)
+            }
+        };
+        match (start(v - 1), start(v + 1)) {
+            (Some(up), Some(down)) => up.abs_diff(down) / 2,
+            _ => 0,
+        }
+    }
+
     /// The shadow width whose layout (background, occluder, background) best explains the RGB row
     /// under the hole, when it explains nearly all of it and clearly better than no shadow; and
     /// the occluder's shift (its disparity above the background's), the same unless part of the
@@ -2257,7 +2290,11 @@ impl ColourSplit {
             && l.occluder_cols >= 2
             && !ramp()
             && {
-                let d = hue_dist(mean(0..shadow_read), bg);
+                // Not the columns the lens blends with the occluder along a slanted edge.
+                let read = shadow_read
+                    .saturating_sub(self.slant_blend(raw, v, c))
+                    .max(shadow_read.min(2));
+                let d = hue_dist(mean(0..read), bg);
                 // Over a textured wall, within the wall's own spread.
                 2 * d <= self.dimmed(COLOUR_STEP, bg) || (col_step > step && d <= spread)
             }
