@@ -3868,6 +3868,44 @@ fn glossy_box_shadow_is_split_off_in_a_dim_colour_image() {
 }
 
 #[test]
+fn pale_glossy_box_shadow_is_split_off_left_of_a_nearer_rod() {
+    // The hand-computed box, glossy (no depth) and a pale blue near the wall's grey, a grey rod
+    // (r = 3 cm) standing before it at 0.8 m: in every row of the box its hole runs from the
+    // shadow into the box and ends at the rod, so it is read from its left (an open hole). The
+    // box's columns stray from the wall by 1.2 to 1.5 colour steps, within the 1.5 steps that
+    // a sample of the wall left of the hole excuses, and every column was read as wall: no row
+    // was split. The box starts at a step from the column before it, which the wall's shading
+    // and noise do not make; past it only a colour of the wall plainly unlike its own (a
+    // pattern's other hue) excuses a column.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::box_before_wall(1.0, 3.0);
+    scene.objects[1].material = umbra::synth::Material::glossy([0.7, 0.72, 0.8]);
+    push_grey_rod(&mut scene, 0.05, 0.8, 0.03);
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 4);
+    let out = classify_rgb(&calib, &frame);
+    // By hand: f·b·(1/1 − 1/3) = 29.13 px of shadow in each of the box's rows (the rod's own
+    // shadow falls on the box there, which is OTHER).
+    let w = calib.fb() * (1.0 - 1.0 / 3.0);
+    let (mut rows, mut split) = (0, 0);
+    for v in 0..HEIGHT {
+        if count_in_row(&frame.ir_labels, v, OTHER) == 0 {
+            continue;
+        }
+        rows += 1;
+        let n = count_in_row(&out.ir_labels, v, ATTACHED);
+        if n > 0 {
+            assert!(
+                (n as f64 - w).abs() <= 2.5,
+                "row {v}: {n} attached px, hand-computed {w:.2}"
+            );
+            split += 1;
+        }
+    }
+    assert!(rows > 250, "the box spans {rows} rows");
+    assert!(10 * split >= 9 * rows, "{split} of {rows} rows split");
+}
+
+#[test]
 fn glossy_box_nearly_as_bright_as_the_wall_has_its_shadow_split_off_by_hue() {
     // The hand-computed box, glossy (no depth), nearly as bright as the pale wall but more
     // yellow: in the RGB image it differs from the wall by a sum of |ΔR|, |ΔG|, |ΔB| of 60 to 90,
