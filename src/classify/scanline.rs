@@ -3169,6 +3169,11 @@ fn hole_around(row: &[u16], u: usize) -> Option<Run> {
     Some(Run { start, end })
 }
 
+/// Rows above a left-border hole whose columns, all without depth, make it the continuation of
+/// a region the sensor does not measure ([`classify_left_border`]). At 4 the real frame lost
+/// 50 px of an attached shadow under a 13 px hole two rows tall at an object's top corner.
+const UNMEASURED_ROWS: usize = 8;
+
 /// What [`classify_left_border`] reads besides the row: the last valid value above each column,
 /// the labels of the row above, the rows around, and the frame's memory of the rows below.
 type LeftBorderContext<'a, 'm> = (
@@ -3229,7 +3234,21 @@ fn classify_left_border(
     // labelled there, and its rows below follow it.) A wide surface past the occluder, where
     // nothing was ever measured above its first pixel either, says otherwise: the unmeasured
     // region ends in this row on both sides of the occluder, as where a floor comes into range.
-    let unmeasured_above = from_above.is_none()
+    // Nothing measured over the hole's columns for [`UNMEASURED_ROWS`] rows above counts too:
+    // a value measured further up (an object above a region beyond range) is no background of
+    // this row's hole, and where the occluder's edge slants the region narrows row by row until
+    // it fits the shadow that value would give.
+    let unmeasured_rows = || {
+        let above_rows = rows.up.len() / WIDTH;
+        above_rows >= UNMEASURED_ROWS
+            && (1..=UNMEASURED_ROWS).all(|j| {
+                let row = (above_rows - j) * WIDTH;
+                rows.up[row + h.start..row + h.end]
+                    .iter()
+                    .all(|&r| r == NO_DEPTH)
+            })
+    };
+    let unmeasured_above = (from_above.is_none() || unmeasured_rows())
         && beside.is_none_or(|(u, _)| above[u] != NO_DEPTH)
         && prev_labels.len() >= h.end
         && prev_labels[h.start..h.end].iter().all(|&l| l == OTHER);
@@ -5571,6 +5590,31 @@ mod tests {
         let labels = classify(&frame(wall, 0..400));
         for v in [0, 1, 200, 399] {
             assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], 0..20, ATTACHED);
+        }
+    }
+
+    #[test]
+    fn left_border_hole_under_a_tall_unmeasured_region_is_other_where_it_narrows() {
+        // A wall at 3 m, measured over rows [0, 100). Below, from the left border to a box at
+        // 1 m whose left edge slants (column 80 at row 100 to 10 at row 450), a region beyond
+        // range: every row's hole runs from the border to the box. Its attached shadow on the
+        // wall would be 29.1 px (eq. 3), which the hole fits from row 300 or so on; the value
+        // measured above (the wall, 200 rows up) once made those rows attached, though the
+        // hole is the same region as in the rows above.
+        let c = Calibration::nyu_default();
+        let (_, p) = params();
+        let (wall, near) = (raw_at(&c, 3.0), raw_at(&c, 1.0));
+        let edge = |v: usize| 80 - (v - 100) / 5;
+        let mut raw = vec![wall; PIXELS];
+        for v in 100..HEIGHT {
+            let e = edge(v);
+            raw[v * WIDTH..v * WIDTH + e].fill(NO_DEPTH);
+            raw[v * WIDTH + e..v * WIDTH + 400].fill(near);
+        }
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        for v in [100, 200, 300, 350, 400, 450] {
+            assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], 0..edge(v), OTHER);
         }
     }
 
