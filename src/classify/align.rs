@@ -121,7 +121,13 @@ pub struct Warp {
     reach: super::unseen::Reach,
     /// The far ends of this frame's alignment strips the colour placed ([`FarEnd`]).
     far_ends: Vec<FarEnd>,
+    /// Per far end, the index of the same edge's in the source row or two above, and below
+    /// ([`NO_LINK`] where there is none).
+    far_links: Vec<[u32; 2]>,
 }
+
+/// No far end of the same edge in the rows next to this one.
+const NO_LINK: u32 = u32::MAX;
 
 /// An alignment strip's row whose near end the colour placed ([`Warp::colour_gap`]): the far
 /// end follows from where inside the near pixel the depth edge lies, known to within the
@@ -129,6 +135,7 @@ pub struct Warp {
 /// edge that slants, the rows around pin it better ([`Warp::refine_far_ends`]).
 #[derive(Clone, Copy, Debug)]
 struct FarEnd {
+    v: u16,
     line: u16,
     e0: u16,
     e1: u16,
@@ -141,9 +148,9 @@ struct FarEnd {
 
 /// Strip rows [`Warp::refine_far_ends`] keeps per frame (a busy frame has a few thousand).
 const FAR_ENDS: usize = 8192;
-/// Lines above and below a strip's row whose near ends [`Warp::refine_far_ends`] fits a line
-/// through. At 2 the simulated suites gained a little less alignment F1; at 4 and 5 detached
-/// F1 lost a little more where a strip abuts a shadow.
+/// Source rows above and below a strip's row whose near ends [`Warp::refine_far_ends`] fits a
+/// line through. At 2 the simulated suites gained a little less alignment F1; at 4 and 5
+/// detached F1 lost a little more where a strip abuts a shadow.
 const FAR_END_ROWS: u16 = 3;
 
 /// The target pixel's centre lies left of the source pixel's footprint (it was rounded down).
@@ -201,6 +208,7 @@ impl Warp {
                 px_m: (calib.rgb.fx * t.x.abs()) as f32,
             },
             far_ends: Vec::with_capacity(FAR_ENDS),
+            far_links: Vec::with_capacity(FAR_ENDS),
         }
     }
 
@@ -707,6 +715,7 @@ impl Warp {
                     if c0 == e0 && self.far_ends.len() < FAR_ENDS {
                         let step = 2.0 * self.half_px;
                         self.far_ends.push(FarEnd {
+                            v: v as u16,
                             line: line as u16,
                             e0: e0 as u16,
                             e1: e1 as u16,
@@ -747,55 +756,83 @@ impl Warp {
     /// edge. One row's colour and depth place the edge within its near pixel only to an interval
     /// up to a pixel wide, and the far end, the same point at the far depth, rounds either way
     /// about as often (a fifth to a quarter of the strips' rows ended a pixel off). Along an edge
-    /// that slants, the colour's near ends step from row to row, and a line through the rows'
-    /// pixel boundaries within [`FAR_END_ROWS`] places the edge within a fraction of a pixel.
-    /// Where the near ends do not step (an edge along the columns) nothing is learnt.
+    /// that slants, the colour's near ends step from row to row, and a line through the near
+    /// ends of [`FAR_END_ROWS`] source rows each way places the edge within a fraction of a
+    /// pixel. Where the near ends do not step (an edge along the columns) nothing is learnt.
     fn refine_far_ends(&mut self) {
-        const SLOTS: usize = 2 * FAR_END_ROWS as usize + 1;
-        let ends = &self.far_ends;
-        let step = 2.0 * self.half_px;
-        for (i, f) in ends.iter().enumerate() {
-            // The same edge in each line within reach: the near end nearest this one's. The
-            // ends are in source-row order, and a source row lands on one line, so the lines
-            // within reach are next to this end in the list.
-            let mut seen = [None::<u16>; SLOTS];
-            let near = |g: &FarEnd| {
-                g.line.abs_diff(f.line) <= FAR_END_ROWS
-                    && g.e0.abs_diff(f.e0) <= 2 + 2 * FAR_END_ROWS
-            };
-            let before = ends[..i]
-                .iter()
-                .rev()
-                .take_while(|g| g.line + FAR_END_ROWS + 1 >= f.line);
-            let after = ends[i..]
-                .iter()
-                .take_while(|g| g.line <= f.line + FAR_END_ROWS + 1);
-            for g in before.chain(after).filter(|g| near(g)) {
-                let k = usize::from(g.line + FAR_END_ROWS - f.line);
-                if seen[k].is_none_or(|e| g.e0.abs_diff(f.e0) < e.abs_diff(f.e0)) {
-                    seen[k] = Some(g.e0);
+        let ends = &self.far_ends[..];
+        let links = &mut self.far_links;
+        links.clear();
+        links.resize(ends.len(), [NO_LINK; 2]);
+        // Each end's edge in the source row above, or the one above that (its colour read may
+        // have failed there): the nearest near end within a pixel and two per row between. The
+        // ends are in source-row order: the last two rows' ranges are kept.
+        let mut above = [(u16::MAX, 0, 0); 2];
+        let mut start = 0;
+        while start < ends.len() {
+            let v = ends[start].v;
+            let mut end = start + 1;
+            while end < ends.len() && ends[end].v == v {
+                end += 1;
+            }
+            for i in start..end {
+                let e0 = ends[i].e0;
+                let mut best = (NO_LINK, u16::MAX);
+                for &(w, a, b) in &above {
+                    if w >= v || w + 2 < v {
+                        continue;
+                    }
+                    let limit = 2 * (v - w) + 1;
+                    for (j, g) in ends[a..b].iter().enumerate() {
+                        let d = g.e0.abs_diff(e0);
+                        if d <= limit && d < best.1 {
+                            best = ((a + j) as u32, d);
+                        }
+                    }
+                    if best.0 != NO_LINK {
+                        break;
+                    }
+                }
+                let (j, d) = best;
+                if j != NO_LINK {
+                    links[i][0] = j;
+                    let down = links[j as usize][1];
+                    if down == NO_LINK || ends[down as usize].e0.abs_diff(ends[j as usize].e0) > d {
+                        links[j as usize][1] = i as u32;
+                    }
                 }
             }
-            // Six lines of seven, and a step among them.
-            let points = seen
-                .iter()
-                .enumerate()
-                .filter_map(|(k, e)| e.map(|e| (k, e)));
-            if points.clone().count() + 1 < SLOTS || points.clone().all(|(_, e)| e == f.e0) {
-                continue;
-            }
-            // Least squares through (line, e0 − ½), each pixel boundary's middle.
+            above = [(v, start, end), above[0]];
+            start = end;
+        }
+        let links = &*links;
+        let step = 2.0 * self.half_px;
+        for (i, f) in ends.iter().enumerate() {
+            // The same edge's ends within reach along the links, up (with this one) and down;
+            // most edges run with the columns, and their near ends never step.
             let (mut n, mut sx, mut sy, mut sxx, mut sxy) = (0f32, 0f32, 0f32, 0f32, 0f32);
-            for (k, e) in points {
-                let (x, y) = (k as f32 - f32::from(FAR_END_ROWS), f32::from(e) - 0.5);
-                n += 1.0;
-                sx += x;
-                sy += y;
-                sxx += x * x;
-                sxy += x * y;
+            let mut stepped = false;
+            for (dir, first) in [(0, i as u32), (1, links[i][1])] {
+                let mut k = first;
+                while k != NO_LINK {
+                    let g = &ends[k as usize];
+                    if g.v.abs_diff(f.v) > FAR_END_ROWS {
+                        break;
+                    }
+                    let (x, y) = (f32::from(g.line) - f32::from(f.line), f32::from(g.e0) - 0.5);
+                    n += 1.0;
+                    sx += x;
+                    sy += y;
+                    sxx += x * x;
+                    sxy += x * y;
+                    stepped |= g.e0 != f.e0;
+                    k = links[k as usize][dir];
+                }
             }
+            // Least squares through (line, e0 − ½), each pixel boundary's middle, where six of
+            // the seven rows hold one and one steps.
             let det = n * sxx - sx * sx;
-            if det.abs() < 1e-6 {
+            if !stepped || n < f32::from(2 * FAR_END_ROWS) || det.abs() < 1e-6 {
                 continue;
             }
             let edge = (sy - (n * sxy - sx * sy) / det * sx) / n;
