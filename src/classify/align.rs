@@ -135,14 +135,21 @@ const NO_LINK: u32 = u32::MAX;
 /// edge that slants, the rows around pin it better ([`Warp::refine_far_ends`]).
 #[derive(Clone, Copy, Debug)]
 struct FarEnd {
+    /// Source row.
     v: u16,
+    /// Target row the strip lies on.
     line: u16,
+    /// The strip's first column (the colour edge) and the column past it (its far end).
     e0: u16,
     e1: u16,
+    /// The near pixel's right footprint edge at the near depth, the far pixel's left one at the
+    /// far depth (target columns, unrounded).
     lo: f32,
     hi: f32,
+    /// Where inside the near pixel this row's colour and depth allow the edge.
     a: f32,
     b: f32,
+    /// The far surface's z-buffer key.
     far: u32,
 }
 
