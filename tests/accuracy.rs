@@ -72,6 +72,27 @@ fn before_a_wall(description: &str, z: f64, colour: [f64; 3]) -> Scene {
     scene
 }
 
+/// A cylinder of `material` centred 1.5 m in front of the camera, its axis `(x, y)` in the image
+/// plane, `(radius, half_len)` metres, before a grey wall at 3 m.
+fn cylinder_at_1_5_m_before_a_wall(
+    (x, y): (f64, f64),
+    (radius, half_len): (f64, f64),
+    material: umbra::synth::Material,
+) -> Scene {
+    let mut scene = before_a_wall("a cylinder at 1.5 m", 3.0, [0.8, 0.78, 0.7]);
+    scene.push(
+        "cylinder",
+        umbra::synth::Shape::Cylinder {
+            centre: umbra::synth::V3::new(0.0, 0.0, 1.5),
+            axis: umbra::synth::V3::new(x, y, 0.0),
+            radius,
+            half_len,
+        },
+        material,
+    );
+    scene
+}
+
 /// Asserts that `found` of `truth` pixels of a class, `what`, over `rows` rows reach a recall of
 /// `min`.
 fn assert_recall(what: &str, found: usize, truth: usize, rows: usize, min: f64) {
@@ -2590,16 +2611,10 @@ fn alignment_strip_ends_where_the_ir_camera_sees_past_a_slanted_rod() {
     // steps places it. Measured: the far end exact in 419 of 428 rows (329 from each row
     // alone), the start in 427.
     let calib = Calibration::nyu_default();
-    let mut scene = before_a_wall("a rod tilted 20°", 3.0, [0.8, 0.78, 0.7]);
     let tilt = 20f64.to_radians();
-    scene.push(
-        "rod",
-        umbra::synth::Shape::Cylinder {
-            centre: umbra::synth::V3::new(0.0, 0.0, 1.5),
-            axis: umbra::synth::V3::new(tilt.sin(), tilt.cos(), 0.0),
-            radius: 0.05,
-            half_len: 3.0,
-        },
+    let scene = cylinder_at_1_5_m_before_a_wall(
+        (tilt.sin(), tilt.cos()),
+        (0.05, 3.0),
         umbra::synth::Material::matte([0.7, 0.2, 0.15]),
     );
     let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 3);
@@ -3801,20 +3816,10 @@ fn shadow_along_a_depthless_cylinders_slanted_edge_is_split_through_a_soft_lens(
     // columns (the edge moves 7.1 px a row), and they blend into this row's: the shadow's mean
     // colour strayed past the background's step in many rows, which stayed OTHER.
     let calib = Calibration::nyu_default();
-    let mut scene = before_a_wall(
-        "dark grey depthless cylinder, tilted",
-        3.0,
-        [0.8, 0.78, 0.7],
-    );
     let angle = 8f64.to_radians();
-    scene.push(
-        "cylinder",
-        umbra::synth::Shape::Cylinder {
-            centre: umbra::synth::V3::new(0.0, 0.0, 1.5),
-            axis: umbra::synth::V3::new(angle.cos(), angle.sin(), 0.0),
-            radius: 0.12,
-            half_len: 0.5,
-        },
+    let scene = cylinder_at_1_5_m_before_a_wall(
+        (angle.cos(), angle.sin()),
+        (0.12, 0.5),
         umbra::synth::Material {
             colour: [0.3, 0.3, 0.33],
             ..umbra::synth::Material::black()
