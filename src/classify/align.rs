@@ -692,7 +692,9 @@ impl Warp {
         // The near surface ends at a colour edge the RGB camera sees, and where it ends tells
         // where in pixel `u` the depth edge lies, which moves the gap's far end too.
         if let Some(colour) = colour {
-            if let Some((e0, e1)) = self.colour_gap(u, filled, colour, line, (lo, hi), (c0, c1)) {
+            if let Some((e0, e1, [a, b])) =
+                self.colour_gap(u, filled, colour, line, (lo, hi), (c0, c1))
+            {
                 let (near, far) = (self.keys[u], self.keys[u + 1]);
                 // Pixels that show either side of this edge (or nothing yet) may change hands.
                 let ours = |k: u32| {
@@ -720,7 +722,6 @@ impl Warp {
                     }
                     c1 = e1;
                     if c0 == e0 && self.far_ends.len() < FAR_ENDS {
-                        let step = 2.0 * self.half_px;
                         self.far_ends.push(FarEnd {
                             v: v as u16,
                             line: line as u16,
@@ -728,8 +729,8 @@ impl Warp {
                             e1: e1 as u16,
                             lo,
                             hi,
-                            a: ((e0 as f32 - 1.0 - lo) / step).max(-0.5),
-                            b: ((e0 as f32 - lo) / step).min(0.5),
+                            a,
+                            b,
                             far,
                         });
                     }
@@ -928,7 +929,9 @@ impl Warp {
     /// RGB camera sees the near surface end at a colour edge within two pixels of `c0` (`lo` is
     /// pixel `u`'s right footprint edge at the near depth). That edge pins
     /// where inside pixel `u` the depth edge lies, and so the far end too (`hi`, the same point at
-    /// the far depth). None when the colours do not show one clean edge.
+    /// the far depth). Also where inside pixel `u` (source pixels from `lo`) the colour and the
+    /// depth edge allow the edge, `[a, b]` ([`FarEnd`]). None when the colours do not show one
+    /// clean edge.
     fn colour_gap(
         &self,
         u: usize,
@@ -937,7 +940,7 @@ impl Warp {
         line: usize,
         (lo, hi): (f32, f32),
         (c0, c1): (usize, usize),
-    ) -> Option<(usize, usize)> {
+    ) -> Option<(usize, usize, [f32; 2])> {
         // A pixel inside the near surface: the target of a source pixel before `u` on the same
         // surface (a thin rod is only two or three target pixels wide).
         let inside = (1..=2)
@@ -1016,7 +1019,7 @@ impl Warp {
             (e0 as f32 - 0.5 - lo) / step
         };
         let e1 = ceil_clamped(hi + at * step, WIDTH).max(e0);
-        Some((e0, e1))
+        Some((e0, e1, [a, b]))
     }
 
     /// Where the centre of the target pixel that source pixel (`u`, `v`) with raw value `raw`
