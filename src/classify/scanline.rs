@@ -1115,10 +1115,15 @@ fn below_unmeasured(
     {
         return;
     }
+    // Sa's surface measured over the hole's first column says the hole above was something
+    // else on it (an occluder's top face seen at a grazing angle is a hole), unless nothing was
+    // measured over the hole for [`UNMEASURED_ROWS`] rows: an opening in Sa's wall (a doorway,
+    // a window onto a region beyond range), whose lintel the column memory holds, and whose
+    // part a nearer object leaves may be as wide as that object's shadow (eq. 3).
     let lit_above = above
         .get(h.start)
         .is_some_and(|&q| q != NO_DEPTH && p.disp(q) > p.disp(raw[a]) - LIT_ABOVE);
-    if lit_above {
+    if lit_above && !unmeasured_over(rows.up, raw.len(), h) {
         return;
     }
     let same_sa = (p.disp(up[a]) - p.disp(raw[a])).abs() < p.min_step;
@@ -3169,10 +3174,20 @@ fn hole_around(row: &[u16], u: usize) -> Option<Run> {
     Some(Run { start, end })
 }
 
-/// Rows above a left-border hole whose columns, all without depth, make it the continuation of
-/// a region the sensor does not measure ([`classify_left_border`]). At 4 the real frame lost
-/// 50 px of an attached shadow under a 13 px hole two rows tall at an object's top corner.
+/// Rows above a hole whose columns, all without depth, make it the continuation of a region the
+/// sensor does not measure ([`classify_left_border`], [`below_unmeasured`]). At 4 the real frame
+/// lost 50 px of an attached shadow under a 13 px hole two rows tall at an object's top corner.
 const UNMEASURED_ROWS: usize = 8;
+
+/// Whether the [`UNMEASURED_ROWS`] rows above (`rows_up`: whole rows of `width` values) hold no
+/// depth over the columns of `h`.
+fn unmeasured_over(rows_up: &[u16], width: usize, h: Run) -> bool {
+    rows_up.len() >= UNMEASURED_ROWS * width
+        && rows_up
+            .rchunks_exact(width)
+            .take(UNMEASURED_ROWS)
+            .all(|row| row[h.start..h.end].iter().all(|&r| r == NO_DEPTH))
+}
 
 /// What [`classify_left_border`] reads besides the row: the last valid value above each column,
 /// the labels of the row above, the rows around, and the frame's memory of the rows below.
@@ -3238,17 +3253,7 @@ fn classify_left_border(
     // a value measured further up (an object above a region beyond range) is no background of
     // this row's hole, and where the occluder's edge slants the region narrows row by row until
     // it fits the shadow that value would give.
-    let unmeasured_rows = || {
-        let above_rows = rows.up.len() / WIDTH;
-        above_rows >= UNMEASURED_ROWS
-            && (1..=UNMEASURED_ROWS).all(|j| {
-                let row = (above_rows - j) * WIDTH;
-                rows.up[row + h.start..row + h.end]
-                    .iter()
-                    .all(|&r| r == NO_DEPTH)
-            })
-    };
-    let unmeasured_above = (from_above.is_none() || unmeasured_rows())
+    let unmeasured_above = (from_above.is_none() || unmeasured_over(rows.up, WIDTH, h))
         && beside.is_none_or(|(u, _)| above[u] != NO_DEPTH)
         && prev_labels.len() >= h.end
         && prev_labels[h.start..h.end].iter().all(|&l| l == OTHER);
@@ -5616,6 +5621,45 @@ mod tests {
         for v in [100, 200, 300, 350, 400, 450] {
             assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], 0..edge(v), OTHER);
         }
+    }
+
+    #[test]
+    fn doorway_beyond_range_narrowed_by_a_nearer_object_to_its_shadows_width_stays_other() {
+        // A wall at 3 m with a doorway onto a region beyond range: columns [200, 300), rows
+        // [100, 400). From row 160 on a box at 1.4 m covers the doorway's columns from 223:
+        // 43.67·(1/1.4 − 1/3) = 16.6 px is the attached shadow eq. (3) gives it on the wall,
+        // and the 23 px of doorway left of it fit that within the widening eq. (3) allows. The
+        // wall measured above the doorway (its lintel, in the column memory) once made the
+        // doorway's rows beside the box attached.
+        let c = Calibration::nyu_default();
+        let (_, p) = params();
+        let (wall, near) = (raw_at(&c, 3.0), raw_at(&c, 1.4));
+        let mut raw = vec![wall; PIXELS];
+        for v in 100..400 {
+            raw[v * WIDTH + 200..v * WIDTH + 300].fill(NO_DEPTH);
+            if v >= 160 {
+                raw[v * WIDTH + 223..v * WIDTH + 330].fill(near);
+            }
+        }
+        let (mut labels, mut filled) = (vec![0; PIXELS], vec![0; PIXELS]);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        for v in [100, 159, 160, 161, 200, 300, 399] {
+            let end = if v < 160 { 300 } else { 223 };
+            assert_run(&labels[v * WIDTH..(v + 1) * WIDTH], 200..end, OTHER);
+        }
+        // The box's own attached shadow where the wall is lit, below the doorway, is found.
+        let v = 420;
+        let shadow = ((f64::from(wall) - f64::from(near)) / 8.0).round() as usize;
+        assert!((16..=18).contains(&shadow), "{shadow}");
+        let mut raw = raw;
+        raw[v * WIDTH + 223 - shadow..v * WIDTH + 223].fill(NO_DEPTH);
+        raw[v * WIDTH + 223..v * WIDTH + 330].fill(near);
+        classify_frame(&p, &raw, &mut labels, &mut filled);
+        assert_run(
+            &labels[v * WIDTH..(v + 1) * WIDTH],
+            223 - shadow..223,
+            ATTACHED,
+        );
     }
 
     #[test]
