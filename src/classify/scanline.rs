@@ -5651,7 +5651,6 @@ mod tests {
         let v = 420;
         let shadow = ((f64::from(wall) - f64::from(near)) / 8.0).round() as usize;
         assert!((16..=18).contains(&shadow), "{shadow}");
-        let mut raw = raw;
         raw[v * WIDTH + 223 - shadow..v * WIDTH + 223].fill(NO_DEPTH);
         raw[v * WIDTH + 223..v * WIDTH + 330].fill(near);
         classify_frame(&p, &raw, &mut labels, &mut filled);
