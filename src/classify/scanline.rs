@@ -2475,6 +2475,25 @@ fn search_occluder(
     };
     let reach = (p.max_disp - d_bg).max(0.0) as usize + 2;
     let stop = (h.end + reach).min(n);
+    // Nor need the shadow start behind that surface: it may run on behind it into the hole left
+    // of it (a thin leg standing in a nearer leg's shadow), where eq. (4) then puts its start.
+    let before = (hidden > 0.0 && hidden.is_finite())
+        .then(|| {
+            let end = h.start - hidden as usize;
+            let len = raw[..end]
+                .iter()
+                .rev()
+                .take_while(|&&r| r == NO_DEPTH)
+                .count();
+            (len > 0).then(|| (end - len) as f32..end as f32)
+        })
+        .flatten();
+    let starts_behind = |e4: f32| {
+        let start = h.start as f32 - 1.0 + e4;
+        before
+            .as_ref()
+            .is_some_and(|b| start >= b.start - p.tol - WIDENING && start < b.end)
+    };
     // disp(r) > d_bg + min_step  ⇔  r < fg_below (disparity falls as raw grows); holes (2047)
     // are never below it.
     let fg_below = p.den - (d_bg + p.min_step) / p.k;
@@ -2634,7 +2653,7 @@ fn search_occluder(
             // occluder's left edge, up to its own width: its shadow may start that much further
             // left than what shows of it casts (never further right). Counted only when needed.
             let over4 = e4 - 1.0 - (p.tol + WIDENING);
-            let fits4 = e4 - 1.0 >= -p.tol - hidden
+            let fits4 = (e4 - 1.0 >= -p.tol - hidden || starts_behind(e4))
                 && (over4 <= 0.0 || nearer_before(p, raw, fa, d_fa, usize::MAX) as f32 >= over4);
             // An occluder running off the right border shows only part of its width: its
             // shadow may end further right than what shows of it casts (never further left).
@@ -5104,6 +5123,28 @@ mod tests {
             let span = &labels[v * WIDTH + cols.start..v * WIDTH + cols.end];
             assert!(span.iter().all(|&l| l == code), "row {v}: {span:?}");
         }
+    }
+
+    #[test]
+    fn shadow_behind_a_thin_nearer_leg_is_found_where_it_runs_on_into_the_hole_before() {
+        // A leg B at 0.67 m over [340, 375) before a wall at 3 m: shift 43.67·(1/0.67 − 1/3) =
+        // 50.6 px, wider than B, so its shadow [289, 324) is detached (lit wall [324, 340)). A
+        // thinner leg A at 1.2 m over [303, 310) stands in it (lit: B's shadow at A's depth,
+        // shifted 28.8 px, covers [311, 346)), and A's own shadow, 21.8 px left of A, merges
+        // with B's: one hole [281, 303), A, then [310, 324). Eq. (4) puts B's shadow's start
+        // 21 px left of the second hole's, behind A (7 px) and on in the hole before it; the
+        // second hole was OTHER.
+        let (c, _) = params();
+        let (leg_a, leg_b) = (raw_at(&c, 1.2), raw_at(&c, 0.67));
+        let labels = wall_frame(|v, row| {
+            if (100..300).contains(&v) {
+                row[281..303].fill(NO_DEPTH);
+                row[303..310].fill(leg_a);
+                row[310..324].fill(NO_DEPTH);
+                row[340..375].fill(leg_b);
+            }
+        });
+        assert_rows(&labels, &[100, 150, 200, 299], 310..324, DETACHED);
     }
 
     #[test]
