@@ -2477,18 +2477,22 @@ fn search_occluder(
     let stop = (h.end + reach).min(n);
     // Nor need the shadow start behind that surface: it may run on behind it into the hole left
     // of it (a thin leg standing in a nearer leg's shadow), where eq. (4) then puts its start.
-    let before = (hidden > 0.0 && hidden.is_finite())
-        .then(|| {
-            let end = h.start - hidden as usize;
-            let len = raw[..end]
-                .iter()
-                .rev()
-                .take_while(|&&r| r == NO_DEPTH)
-                .count();
-            (len > 0).then(|| (end - len) as f32..end as f32)
-        })
-        .flatten();
+    // (Read only for an occluder eq. (4) puts that far left: most searches never ask.)
+    let hole_before = std::cell::OnceCell::new();
     let starts_behind = |e4: f32| {
+        let before = hole_before.get_or_init(|| {
+            (hidden > 0.0 && hidden.is_finite())
+                .then(|| {
+                    let end = h.start - hidden as usize;
+                    let len = raw[..end]
+                        .iter()
+                        .rev()
+                        .take_while(|&&r| r == NO_DEPTH)
+                        .count();
+                    (len > 0).then(|| (end - len) as f32..end as f32)
+                })
+                .flatten()
+        });
         let start = h.start as f32 - 1.0 + e4;
         before
             .as_ref()
