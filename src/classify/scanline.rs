@@ -2475,8 +2475,9 @@ fn search_occluder(
     };
     let reach = (p.max_disp - d_bg).max(0.0) as usize + 2;
     let stop = (h.end + reach).min(n);
-    // Nor need the shadow start behind that surface: it may run on behind it into the hole left
-    // of it (a thin leg standing in a nearer leg's shadow), where eq. (4) then puts its start.
+    // Nor need a shadow hidden so start behind that nearer surface: it may run on past it into
+    // the hole left of it (a thin leg standing in a nearer leg's shadow, the thin leg's own
+    // shadow merged with the first part), where eq. (4) then puts its start.
     // (Read only for an occluder eq. (4) puts that far left: most searches never ask.)
     let hole_before = std::cell::OnceCell::new();
     let starts_behind = |e4: f32| {
