@@ -2745,6 +2745,55 @@ fn black_box_turned_away_gets_its_alignment_strip_from_its_right_edge() {
 }
 
 #[test]
+fn black_box_strip_showing_the_striped_walls_other_stripe_is_found() {
+    // The hand-computed black box (x = −0.2..0.2 m, front face at 1 m) before a wall at 3 m
+    // papered in bands 10 cm wide, the dark ones a third as bright, one from x = 0.5 m. Past the
+    // box's right edge the IR camera sees the wall from 0.2·3 = 0.6 m on, a light band; the RGB
+    // camera, 2.5 cm to the right, from 0.025 + 0.175·3 = 0.55 m: its strip, 5 cm of wall
+    // (about 0.025·f·(1/1 − 1/3) = 8.7 px), shows the dark band, unlike the wall beside the
+    // hole. With the wall beside the hole the only background colour, the right-edge reading
+    // took the dark band for the box and found no strip in most rows: alignment F1 0.308 (recall
+    // 0.183); with the wall's other colours, read right of the hole, 0.940.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::new("black box before a striped wall, its strip on a dark stripe");
+    let green = [0.4, 0.6, 0.3];
+    push_bands(&mut scene, (0.5, 0.1, 3.0), -30..30, |k| {
+        green.map(|c| if k % 2 == 0 { 0.35 * c } else { c })
+    });
+    push_black_box(&mut scene, "box", [0.0, 0.0, 1.1], [0.2, 0.25, 0.1]);
+    let mut c = Confusion::default();
+    for seed in 90..92 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        // The simulator's strip lies on the dark band.
+        let strip: Vec<usize> = (0..PIXELS)
+            .filter(|&i| frame.rgb_labels[i] == ALIGNMENT)
+            .collect();
+        // Lit alike, the bands differ by their paper: a strip pixel is on the dark band when
+        // darker by a tenth or more than the wall the IR camera sees 3 px past the strip's end.
+        let green = |i: usize| f64::from(frame.rgb[3 * i + 1]);
+        let dark = strip
+            .iter()
+            .filter(|&&i| {
+                let end = (i..i - i % WIDTH + WIDTH).find(|&j| frame.rgb_labels[j] == VALID);
+                end.is_some_and(|j| green(i) < 0.9 * green(j + 3))
+            })
+            .count();
+        assert!(
+            strip.len() > 1500 && 10 * dark >= 9 * strip.len(),
+            "{dark} of the strip's {} px on the dark band",
+            strip.len()
+        );
+        c.add(&frame.rgb_labels, &classify_rgb(&calib, &frame).rgb_labels);
+    }
+    at_least(
+        &c,
+        Some(ALIGNMENT),
+        0.9,
+        "RGB alignment of a black box whose strip shows the wall's other stripe",
+    );
+}
+
+#[test]
 fn alignment_strip_starts_at_the_dark_silhouette_of_a_pale_rod() {
     // A rod 1.6 cm thick at 1.9 m before a wall at 2.7 m, through the Kinect sensor model, in a
     // colour close to the wall's: lit from beside the camera, its middle is nearly as bright as
