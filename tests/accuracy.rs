@@ -6690,3 +6690,75 @@ fn shadow_of_a_rod_cut_by_the_border_behind_a_thin_rod_is_detached() {
     assert!(rows >= 400, "A's shadow shows right of B in {rows} rows");
     assert_recall("detached", found, truth, rows, 0.9);
 }
+
+#[test]
+fn shadow_falling_on_a_thin_nearer_leg_up_to_its_edge_is_detached() {
+    // Two boards 4 cm wide, 1 cm thick, floor to ceiling, before a wall at 3 m: the front one
+    // at 0.6 m (columns 320.0..358.8), the back one at 1 m (columns 286.7..310.0). The front
+    // board's shadow lies 43.67·(1/0.6 − 1/1) = 29.1 px left of it on the back board
+    // (columns 290.9..329.7) and 43.67·(1/0.6 − 1/3) = 58.2 px left of it on the wall
+    // (261.8..300.6, behind the back board and in the hole left of it). So the back board shows
+    // 4 px lit, then 19 px in the shadow up to its right edge; the wall beyond it is lit up to
+    // the front board. Eq. (5) on the wall ends the shadow 9.4 px short of that hole's end (at
+    // 300.6): it was OTHER in every row. On the back board it ends at 329.7, past it: detached,
+    // and warped at the board's depth the RGB view finds it there too (1 657 of 3 315 px at the
+    // wall's depth, 3 046 at the board's).
+    let calib = Calibration::nyu_default();
+    let (fx, cx) = (calib.depth.fx, calib.depth.cx);
+    let x_at = |u: f64, z: f64| (u - cx) * z / fx;
+    let mut scene = before_a_pale_wall("a board in a nearer board's shadow up to its edge");
+    let board = |scene: &mut Scene, name, right: f64, z: f64| {
+        let x = x_at(right, z);
+        push_box(
+            scene,
+            name,
+            [x - 0.02, 0.0, z + 0.005],
+            [0.02, 2.0, 0.005],
+            umbra::synth::Material::matte([0.6, 0.5, 0.4]),
+        );
+    };
+    board(&mut scene, "back board", 310.0, 1.0);
+    board(&mut scene, "front board", 320.0 + 0.04 * fx / 0.6, 0.6);
+    let (mut rows, mut board_px, mut board_found) = (0, 0, 0);
+    for seed in 40..42 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        let out = classify_rgb(&calib, &frame);
+        for v in 100..380 {
+            // The hole on the back board: the simulator's detached pixels in columns 292..309.
+            let row = v * WIDTH;
+            let truth = (292..309)
+                .filter(|&u| frame.ir_labels[row + u] == DETACHED)
+                .count();
+            assert!(
+                truth >= 14,
+                "row {v}: {truth} detached px on the back board"
+            );
+            let found = (292..309)
+                .filter(|&u| out.ir_labels[row + u] == DETACHED)
+                .count();
+            rows += usize::from(found + 2 >= truth);
+        }
+        // The RGB view: the shadow on the back board, right of its lit sliver (the one valid
+        // pixel between the simulator's detached runs), warped at the board's depth.
+        for v in 100..380 {
+            let gt = &frame.rgb_labels[v * WIDTH..(v + 1) * WIDTH];
+            let Some(sliver) = (260..330)
+                .find(|&x| gt[x] == VALID && gt[x - 1] == DETACHED && gt[x + 1] == DETACHED)
+            else {
+                continue;
+            };
+            for x in (sliver + 1..WIDTH).take_while(|&x| gt[x] == DETACHED) {
+                board_px += 1;
+                board_found += usize::from(out.rgb_labels[v * WIDTH + x] == DETACHED);
+            }
+        }
+    }
+    assert!(
+        rows >= 9 * 2 * 280 / 10,
+        "{rows} of 560 rows detached on the back board"
+    );
+    assert!(
+        board_px > 2000 && 10 * board_found >= 9 * board_px,
+        "RGB view: {board_found} of the board's {board_px} shadowed px detached"
+    );
+}
