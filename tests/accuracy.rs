@@ -6762,3 +6762,46 @@ fn shadow_falling_on_a_thin_nearer_leg_up_to_its_edge_is_detached() {
         "RGB view: {board_found} of the board's {board_px} shadowed px detached"
     );
 }
+
+#[test]
+fn rod_whose_lit_gap_is_a_sliver_of_a_slanted_wall_keeps_its_detached_shadow() {
+    // A rod 3.5 cm thick at 1 m before a wall through (0, 0, 2 m) turned 58°, its right side
+    // nearer: the rod (raw 736–740) shifts 0.1336·(934 − 740) = 25.9 px against the wall left of
+    // its shadow, and is 2·0.0175·582.6/1 = 20.4 px wide, so its detached shadow leaves a lit gap
+    // of two pixels. Over the shadow's 22 px the wall comes 11–12 raw units nearer, 1.5 px of
+    // disparity: past the step, so the gap's two pixels read as foreground and began the
+    // occluder's run, and eq. (4) measured from them missed by 21 px: the hole was read as the
+    // rod's attached shadow (the rod read as Sb through the gap). Two pixels that far from the
+    // rod and that near the wall are a sliver of the wall, stepped over.
+    let calib = Calibration::nyu_default();
+    let mut scene = Scene::new("a rod before a steeply slanted wall, its lit gap two pixels");
+    scene.push(
+        "wall",
+        slanted_wall(2.0, -58f64.to_radians()),
+        umbra::synth::Material::matte([0.8, 0.78, 0.7]),
+    );
+    scene.push(
+        "rod",
+        vertical_rod(0.0, 1.0, 0.0175),
+        umbra::synth::Material::matte([0.6, 0.6, 0.65]),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 8);
+    let out = classify_rgb(&calib, &frame);
+    let mut rows = 0;
+    for v in 40..440 {
+        let row = &frame.raw[v * WIDTH..(v + 1) * WIDTH];
+        let a = (200..400)
+            .find(|&u| row[u] == NO_DEPTH)
+            .expect("the shadow");
+        let b = (a..WIDTH).find(|&u| row[u] != NO_DEPTH).expect("its end");
+        // The simulator's shadow, the two pixels of wall after it, the rod.
+        assert!(
+            (a..b).all(|u| frame.ir_labels[v * WIDTH + u] == DETACHED)
+                && row[b + 1] != NO_DEPTH
+                && row[b + 2] + 150 < row[b],
+            "row {v}: the scene"
+        );
+        rows += usize::from((a..b).all(|u| out.ir_labels[v * WIDTH + u] == DETACHED));
+    }
+    assert!(rows >= 390, "{rows} of 400 rows detached");
+}
