@@ -6805,3 +6805,58 @@ fn rod_whose_lit_gap_is_a_sliver_of_a_slanted_wall_keeps_its_detached_shadow() {
     }
     assert!(rows >= 390, "{rows} of 400 rows detached");
 }
+
+#[test]
+fn shadow_beside_a_thin_nearer_rod_under_a_nearer_board_keeps_its_background() {
+    // A box's left face at 1.2 m (x = 0.0555 m: column 340) before a wall at 3 m casts an
+    // attached shadow of 43.67·(1/1.2 − 1/3) = 21.8 px, columns 318–340; a rod at 0.9 m (0.8 cm
+    // thick: columns 320–330) stands in it, so 9–10 px of it show between the rod and the box.
+    // A board at 0.8 m spans the frame's top rows above both (rows 0–56), hiding the box's top:
+    // the only surface ever measured above the hole is that board, nearer than the box, which
+    // can be no background of the box's shadow. It was taken as the one reading above, and the
+    // hole left OTHER in every row; the row's own background left of the thin rod (its detached
+    // shadow on the wall between) now stands in, as where nothing was measured above.
+    let calib = Calibration::nyu_default();
+    let mut scene = before_a_pale_wall("a box's shadow beside a rod, under a nearer board");
+    let matte = umbra::synth::Material::matte;
+    push_box(
+        &mut scene,
+        "board",
+        [0.0, -0.28, 0.81],
+        [1.5, 0.03, 0.01],
+        matte([0.5, 0.45, 0.4]),
+    );
+    push_box(
+        &mut scene,
+        "box",
+        [0.2055, 0.8, 1.25],
+        [0.15, 1.4, 0.05],
+        matte([0.6, 0.5, 0.4]),
+    );
+    scene.push(
+        "rod",
+        vertical_rod(0.0182, 0.9, 0.008),
+        matte([0.6, 0.6, 0.65]),
+    );
+    let frame = render_frame(&scene, &calib, &SensorModel::ideal(), 8);
+    let out = classify_rgb(&calib, &frame);
+    let mut rows = 0;
+    for v in 80..440 {
+        let row = &frame.raw[v * WIDTH..(v + 1) * WIDTH];
+        let at = |u: usize| frame.ir_labels[v * WIDTH + u];
+        // The hole between the rod's right edge and the box, by the simulator all attached.
+        let b = (300..400).find(|&u| row[u] != NO_DEPTH && row[u] > 750 && row[u] < 850);
+        let b = b.expect("the box");
+        let a = (b - 20..b)
+            .rev()
+            .find(|&u| row[u] != NO_DEPTH)
+            .expect("the rod")
+            + 1;
+        assert!(
+            (7..=12).contains(&(b - a)) && (a..b).all(|u| at(u) == ATTACHED),
+            "row {v}: the scene ({a}..{b})"
+        );
+        rows += usize::from((a..b).all(|u| out.ir_labels[v * WIDTH + u] == ATTACHED));
+    }
+    assert!(rows >= 350, "{rows} of 360 rows attached");
+}
