@@ -2441,8 +2441,8 @@ fn detached_beyond_sb(
 const TAIL_HIDER: f32 = 3.0;
 
 /// Widest sliver of a slanted background before an occluder that [`search_occluder`] steps
-/// over.
-const SLIVER: usize = 3;
+/// over (pixels).
+const SLIVER: usize = 2;
 
 /// Widest run of Sb's surface [`detached_beyond_sb`] looks past. What it catches shows a lit
 /// gap of a pixel or two, or a narrow step: every suite of both simulators scored the same with
@@ -2626,14 +2626,14 @@ fn search_occluder(
             let d0 = p.disp(r);
             let sliver = raw[u..]
                 .iter()
-                .take(SLIVER)
+                .take(SLIVER + 1)
                 .take_while(|&&q| q != NO_DEPTH && (p.disp(q) - d0).abs() < p.min_step)
                 .count();
             let stands_before = |next: &[u16]| {
                 next.iter()
                     .all(|&q| q != NO_DEPTH && p.disp(q) - d0 > (d0 - d_bg).max(p.min_step))
             };
-            let fa = if sliver < SLIVER
+            let fa = if sliver <= SLIVER
                 && raw
                     .get(u + sliver..u + sliver + 3)
                     .is_some_and(stands_before)
