@@ -2444,6 +2444,32 @@ const TAIL_HIDER: f32 = 3.0;
 /// over (pixels).
 const SLIVER: usize = 2;
 
+/// Where an occluder whose foreground run starts at `u` starts: past a sliver of up to
+/// [`SLIVER`] pixels within a step of each other when the three after it stand nearer than the
+/// sliver by more than the sliver stands before the background (`d_bg`): a slanted background
+/// coming nearer over the hole, past the step, in a narrow lit gap. Else `u`.
+fn after_sliver(p: &ScanParams, raw: &[u16], u: usize, d_bg: f32) -> usize {
+    let d0 = p.disp(raw[u]);
+    let sliver = raw[u..]
+        .iter()
+        .take(SLIVER + 1)
+        .take_while(|&&q| q != NO_DEPTH && (p.disp(q) - d0).abs() < p.min_step)
+        .count();
+    let stands_before = |next: &[u16]| {
+        next.iter()
+            .all(|&q| q != NO_DEPTH && p.disp(q) - d0 > (d0 - d_bg).max(p.min_step))
+    };
+    if sliver <= SLIVER
+        && raw
+            .get(u + sliver..u + sliver + 3)
+            .is_some_and(stands_before)
+    {
+        u + sliver
+    } else {
+        u
+    }
+}
+
 /// Widest run of Sb's surface [`detached_beyond_sb`] looks past. What it catches shows a lit
 /// gap of a pixel or two, or a narrow step: every suite of both simulators scored the same with
 /// 8 px, 24 px or no limit, and 8 px took most of the test's cost off a frame full of attached
@@ -2623,24 +2649,16 @@ fn search_occluder(
             // simulator, a leaning rod before a turned wall: complex IR detached F1 +0.022 on
             // its suite; this project's suites +0.0071 summed, attached +0.0030, simple +0.0025,
             // nothing lower than −0.0003; the real frame unchanged.)
-            let d0 = p.disp(r);
-            let sliver = raw[u..]
-                .iter()
-                .take(SLIVER + 1)
-                .take_while(|&&q| q != NO_DEPTH && (p.disp(q) - d0).abs() < p.min_step)
-                .count();
-            let stands_before = |next: &[u16]| {
+            // (Most runs are one surface over their first three pixels, no sliver: an integer
+            // test first.)
+            let plain_start = raw.get(u + 1..u + 3).is_some_and(|next| {
                 next.iter()
-                    .all(|&q| q != NO_DEPTH && p.disp(q) - d0 > (d0 - d_bg).max(p.min_step))
-            };
-            let fa = if sliver <= SLIVER
-                && raw
-                    .get(u + sliver..u + sliver + 3)
-                    .is_some_and(stands_before)
-            {
-                u + sliver
-            } else {
+                    .all(|&q| q != NO_DEPTH && q.abs_diff(r) < p.edge_raw)
+            });
+            let fa = if plain_start {
                 u
+            } else {
+                after_sliver(p, raw, u, d_bg)
             };
             let mut fb = fa;
             // The occluder ends where the foreground does, or where a second surface before the
@@ -2731,23 +2749,25 @@ fn search_occluder(
             // before where eq. (5) on Sa's surface does. (Sixth simulator: a fresh suite's chair,
             // simple IR detached F1 +0.062 there; this project's suites, complex, +0.0047
             // summed, RGB +0.0041 with the hole warped at Sa's depth; nothing lower.)
-            let on_sa = (h.end - h.start >= MIN_STEP_OVER
-                && hidden > 0.0
-                && hidden.is_finite()
-                && e5 + 1.0 <= p.tol)
-                .then_some(sa)
-                .flatten()
-                .filter(|sa| {
-                    let d = p.disp(sa.far);
-                    d_fa.min(d_fb) > d + p.min_step
-                        && (fb as f32 - h.end as f32) - (d_fb - d) + 1.0 >= -p.tol
-                });
+            let on_sa = || {
+                (h.end - h.start >= MIN_STEP_OVER
+                    && hidden > 0.0
+                    && hidden.is_finite()
+                    && e5 + 1.0 <= p.tol)
+                    .then_some(sa)
+                    .flatten()
+                    .filter(|sa| {
+                        let d = p.disp(sa.far);
+                        d_fa.min(d_fb) > d + p.min_step
+                            && (fb as f32 - h.end as f32) - (d_fb - d) + 1.0 >= -p.tol
+                    })
+            };
             // Sb's first pixels are no occluder standing clear of the hole.
             if fits4 && cut_fits && !(beyond_sb && start == fa && fa <= h.end + 1) {
                 if fits5 {
                     return Detached::Measured;
                 }
-                if let Some(sa) = on_sa {
+                if let Some(sa) = on_sa() {
                     return Detached::OnSa { raw: sa.far };
                 }
             }
