@@ -1241,9 +1241,9 @@ fn strip_of_a_box_swallowed_by_the_widening_before_a_dark_region_beyond_range_is
 #[test]
 fn with_a_dead_band_along_the_right_border_such_a_hole_is_not_claimed() {
     // A real sensor returns no depth in its last 8 columns, in every row (the NYU frame): a
-    // hole running into that band is as often the band widened as a shadow, and the colour
-    // cannot tell them apart. The same panel, with such a band cut into the frame: no shadow
-    // is claimed at the border.
+    // hole running a little way past that band is as often the band widened as a shadow, and
+    // the colour cannot tell them apart. The same panel, with such a band cut into the frame
+    // (its shadow 13–16 px past the band): no shadow is claimed at the border.
     let calib = Calibration::nyu_default();
     let mut frame = render_frame(
         &panel_beyond_the_right_border(0.58),
@@ -1259,6 +1259,63 @@ fn with_a_dead_band_along_the_right_border_such_a_hole_is_not_claimed() {
         .filter(|&i| i % WIDTH >= 560 && out.ir_labels[i] == ATTACHED)
         .count();
     assert_eq!(claimed, 0, "attached pixels at the border");
+}
+
+#[test]
+fn with_a_dead_band_a_shadow_reaching_well_past_it_is_claimed() {
+    // The panel nearer, its left face at x = 0.46 m, 0.80 to 0.81 m away: column
+    // cx + fx·0.46/0.81 ≈ 644, past the border. Its shadow on the wall at 3 m is
+    // f·b·(1/0.81 − 1/3) ≈ 39 px wide by hand, from column 605: 27 px of it left of the dead
+    // band cut into the frame, too wide for the band widened. Left of the band it is attached
+    // (F1 0.000 before such holes were read in frames with the band, 0.975 after); the band
+    // stays OTHER. The panel is short enough that most rows show the bare band.
+    let calib = Calibration::nyu_default();
+    let edge = calib.depth.cx + calib.depth.fx * 0.46 / 0.81;
+    let start = edge - calib.fb() * (1.0 / 0.81 - 1.0 / 3.0);
+    assert!(
+        edge > WIDTH as f64 && (600.0..610.0).contains(&start),
+        "{start}..{edge}"
+    );
+    let mut scene = before_a_pale_wall("panel beyond the right border, nearer");
+    push_box(
+        &mut scene,
+        "panel",
+        [0.96, 0.0, 0.805],
+        [0.5, 0.15, 0.005],
+        umbra::synth::Material::matte([0.2, 0.35, 0.8]),
+    );
+    let ideal = render_frame(&scene, &calib, &SensorModel::ideal(), 40);
+    let row = &ideal.ir_labels[240 * WIDTH..241 * WIDTH];
+    let first = row.iter().position(|&l| l == ATTACHED);
+    assert!(
+        first.is_some_and(|u| (u as f64 - start).abs() <= 1.0) && row[WIDTH - 1] == ATTACHED,
+        "the scene's shadow starts at {first:?}, by hand at {start:.1}"
+    );
+    let band = WIDTH - 8;
+    let (mut truth, mut found, mut hit, mut in_band) = (0, 0, 0, 0);
+    for seed in 40..42 {
+        let mut frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        for row in frame.raw.chunks_exact_mut(WIDTH) {
+            row[band..].fill(umbra::labels::NO_DEPTH);
+        }
+        let out = classify_rgb(&calib, &frame);
+        for i in (0..PIXELS).filter(|&i| i % WIDTH >= 560) {
+            let (t, o) = (frame.ir_labels[i] == ATTACHED, out.ir_labels[i] == ATTACHED);
+            if i % WIDTH >= band {
+                in_band += usize::from(o);
+                continue;
+            }
+            truth += usize::from(t);
+            found += usize::from(o);
+            hit += usize::from(t && o);
+        }
+    }
+    assert_eq!(in_band, 0, "attached pixels in the dead band");
+    let f1 = 2.0 * hit as f64 / (truth + found) as f64;
+    assert!(
+        truth > 5_000 && f1 >= 0.9,
+        "IR attached F1 {f1:.3} left of the band ({hit} of {truth}, {found} claimed)"
+    );
 }
 
 /// A wall turned 12° away, z = `z0` + x·tan 12°, with a red poster on it from x = `poster_x`

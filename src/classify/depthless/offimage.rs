@@ -30,8 +30,9 @@
 //! the wall's colour that far and then something else, the shift follows from that edge; the
 //! hole is the shadow when the shift reaches the border (the occluder stands beyond it). A black
 //! surface at the border shows at the hole's start instead; a real sensor's dead band along the
-//! border (8 px or more in every row) hides any such shadow in itself, and frames with one are
-//! left alone.
+//! border (8 px or more in every row) hides any narrower shadow in itself, so in frames with
+//! one only holes reaching well past it are read (`PAST_BAND` in the parent module), and the
+//! band stays OTHER.
 
 use super::Range;
 use super::{
