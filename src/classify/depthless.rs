@@ -607,12 +607,12 @@ impl ColourSplit {
                     relabel(&mut labels_row[a..to], OTHER, ATTACHED);
                     beyond_range_span(
                         row,
-                        (a, b),
+                        (a, to),
                         split_range,
                         &done[(v - 1) * WIDTH..],
                         labels_row,
                     );
-                    let span = &mut labels_row[a..b];
+                    let span = &mut labels_row[a..to];
                     let out = span.iter().filter(|&&l| l == OTHER).count();
                     if out > span.len() - out {
                         relabel(span, ATTACHED, OTHER);
