@@ -1638,25 +1638,7 @@ impl ColourSplit {
                     b..(b + SPREAD_SPAN).min(WIDTH),
                     bg,
                 );
-                // Samples of one stripe gathered (first sample, how many), those seen twice kept:
-                // a column is then compared with a few, not sixteen.
-                let mut groups = ([([0; 3], 0u8); PALETTE], 0);
-                for &q in qs[..m].iter().filter(|&&q| hue_dist(q, bg_colour) >= step) {
-                    let (gs, n) = &mut groups;
-                    match gs[..*n].iter_mut().find(|g| 2 * hue_dist(q, g.0) < step) {
-                        Some(g) => g.1 += 1,
-                        None => {
-                            gs[*n] = (q, 1);
-                            *n += 1;
-                        }
-                    }
-                }
-                let mut out = ([[0; 3]; PALETTE], 0);
-                for &(q, _) in groups.0[..groups.1].iter().filter(|g| g.1 >= 2) {
-                    out.0[out.1] = q;
-                    out.1 += 1;
-                }
-                out
+                other_stripes(&qs[..m], bg_colour, step)
             });
             let p = px(x0 + k);
             let is = qs[..*m]
@@ -2650,6 +2632,31 @@ const MAX_BRIGHTEN: i32 = 1500;
 /// How far (thousandths) the unclipped channels' factors may differ.
 const CHROMA_RATIO: i32 = 80;
 
+/// The colours among a wall's `samples` unlike its colour `bg` (by `step` or more) that two
+/// samples or more show, one per stripe: samples within half a step of a stripe's first join
+/// it. A pattern repeats; a lone sample (a box's shaded side beside the hole) is no stripe. A
+/// column is then compared with a few colours, not every sample.
+#[inline]
+fn other_stripes(samples: &[[i32; 3]], bg: [i32; 3], step: u32) -> ([[i32; 3]; PALETTE], usize) {
+    let mut groups = ([([0; 3], 0u8); PALETTE], 0);
+    for &q in samples.iter().filter(|&&q| hue_dist(q, bg) >= step) {
+        let (gs, n) = &mut groups;
+        match gs[..*n].iter_mut().find(|g| 2 * hue_dist(q, g.0) < step) {
+            Some(g) => g.1 += 1,
+            None => {
+                gs[*n] = (q, 1);
+                *n += 1;
+            }
+        }
+    }
+    let mut out = ([[0; 3]; PALETTE], 0);
+    for &(q, _) in groups.0[..groups.1].iter().filter(|g| g.1 >= 2) {
+        out.0[out.1] = q;
+        out.1 += 1;
+    }
+    out
+}
+
 /// `x.round()` as an integer, without the libm call the baseline x86-64 target makes for it
 /// (ties away from zero, as `f64::round`; only for |x| well inside i64).
 fn round(x: f64) -> i64 {
@@ -2698,6 +2705,26 @@ fn span_end(mask: &HoleMask, row: &[u16], u: usize) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn other_stripes_keep_colours_two_samples_show_one_per_stripe() {
+        let wall = [200, 180, 120];
+        let dark = [80, 72, 48];
+        let samples = [
+            wall,
+            [202, 179, 121],
+            dark,
+            [82, 70, 49],
+            wall,
+            [79, 73, 47],
+            // One sample of a box's blue side beside the hole: no stripe.
+            [40, 60, 160],
+        ];
+        let step = 60;
+        let (qs, m) = other_stripes(&samples, wall, step);
+        assert_eq!(m, 1, "{:?}", &qs[..m]);
+        assert_eq!(qs[0], dark, "the stripe's first sample stands for it");
+    }
 
     /// [`steps_near`] over a row of RGB columns given one per column.
     fn steps_in(cols: &[[i32; 3]], o0: usize, contrast: u32) -> bool {
