@@ -959,6 +959,46 @@ fn attached_shadow_of_a_black_box_running_off_the_left_border_is_told_by_colour(
 }
 
 #[test]
+fn attached_shadow_of_a_black_box_at_the_left_border_before_another_surface_is_read_past_it() {
+    // The black box of the test above, its front face from column 26, and right of it, from
+    // behind its right edge, a red panel at 2 m: the hole ends at the panel, whose colour the
+    // RGB camera does not see at the border (the pale wall is there), so the strip right of the
+    // box tells nothing of the shadow. The shadow is f·b·(1/1 − 1/3) = 29.1 px wide by hand and
+    // starts 3 px past the border. The RGB camera sees past the border, the wall running on to
+    // where it sees the box, 26 − 29.1/3 = 16.3 px; the least shift that starts the shadow
+    // outside the image, 16.3 / (1 − 1/3) = 24.5 px, ends it there (the wall's depth measured
+    // above the box). Measured: IR attached F1 0.447 → 0.934 (recall 0.29 → 0.88, precision
+    // 1.000; above and below the panel the wall beside the box told the shift already).
+    let calib = Calibration::nyu_default();
+    let u_left = 26.0;
+    let shift = calib.fb() * (1.0 / 1.0 - 1.0 / 3.0);
+    assert!(
+        (u_left - shift) < -2.0 && (u_left - shift) > -4.0,
+        "{shift}"
+    );
+    let mut scene = black_box_at_the_left_border(u_left);
+    let x_right = (u_left - calib.depth.cx) / calib.depth.fx + 0.3;
+    push_box(
+        &mut scene,
+        "panel",
+        [2.0 * x_right - 0.1 + 0.5, 0.0, 2.025],
+        [0.5, 0.4, 0.025],
+        umbra::synth::Material::matte([0.7, 0.2, 0.15]),
+    );
+    told_by_colour_alone(
+        &scene,
+        |v, cols| {
+            assert!(
+                cols.first() == Some(&0) && (cols.len() as f64 - u_left).abs() <= 1.0,
+                "row {v}: the scene's shadow {cols:?}, by hand to {u_left}"
+            )
+        },
+        0.9,
+        "IR attached of a black box at the left border before a panel",
+    );
+}
+
+#[test]
 fn black_poster_at_the_left_border_casts_no_shadow_from_colour() {
     // A black poster on the wall at 3 m, from past the left border to x = −0.9 m (column 138),
     // 1.8 m tall: a hole from column 0 with wall on its right, black in the RGB image up to its

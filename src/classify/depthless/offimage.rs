@@ -54,7 +54,7 @@ const UNSEEN_IN_VIEW: usize = 4;
 /// Narrowest hole considered (pixels): single-pixel holes are speckle.
 const MIN_WIDTH: usize = 2;
 /// Raw units under the frame's farthest value within which a wall may be at the range's end.
-const NEAR_FAR: u16 = 3;
+pub(super) const NEAR_FAR: u16 = 3;
 /// Pixels over which a wall's slope towards the range's end is read.
 pub(super) const SLOPE_SPAN: usize = 64;
 /// Raw units per pixel past which a wall recedes towards the range's end. In an independent
