@@ -999,6 +999,75 @@ fn attached_shadow_of_a_black_box_at_the_left_border_before_another_surface_is_r
 }
 
 #[test]
+fn second_black_box_beside_the_first_gets_its_shadow_past_the_first() {
+    // Two black boxes before the pale wall at 3 m: the first's front face at 1 m over IR columns
+    // 200–300, the second's at 1.6 m from column 308. The first's shadow is f·b·(1/1 − 1/3) =
+    // 29.1 px wide by hand, the second's f·b·(1/1.6 − 1/3) = 12.7 px, ending at column 308: its
+    // first 4.7 px lie behind the first box, so the hole runs from the first shadow to the
+    // second box's right edge with no lit wall in it. The split reads the first shadow and box;
+    // past the first box the RGB camera sees the wall again (its alignment strip, 9.7 px, then
+    // the second shadow's visible part less the 4.2 px the second box hides), and the strip
+    // right of the second box gives that box's shift. Measured: the second shadow's recall
+    // 0.00 → 0.79 (its start a pixel late: the first box's silhouette is its back corner's),
+    // IR attached F1 0.925 → 0.979.
+    let calib = Calibration::nyu_default();
+    let (fx, cx) = (calib.depth.fx, calib.depth.cx);
+    let x_at = |u: f64, z: f64| (u - cx) / fx * z;
+    let mut scene = before_a_pale_wall("two black boxes side by side");
+    let (x1, x2) = (x_at(200.0, 1.0), x_at(300.0, 1.0));
+    push_black_box(
+        &mut scene,
+        "box",
+        [(x1 + x2) / 2.0, 0.0, 1.05],
+        [(x2 - x1) / 2.0, 0.3, 0.05],
+    );
+    let (x3, x4) = (x_at(308.0, 1.6), x_at(408.0, 1.6));
+    push_black_box(
+        &mut scene,
+        "box",
+        [(x3 + x4) / 2.0, 0.0, 1.65],
+        [(x4 - x3) / 2.0, 0.3, 0.05],
+    );
+    let second_by_hand = 308.0 - calib.fb() * (1.0 / 1.6 - 1.0 / 3.0);
+    assert!((second_by_hand - 295.3).abs() < 0.5, "{second_by_hand}");
+    // The first box's right side face shows (it stands left of the optical axis): its
+    // silhouette ends at its back corner, 1.1 m away.
+    let first_ends = cx + fx * x2 / 1.1;
+    let ideal = render_frame(&scene, &calib, &SensorModel::ideal(), 40);
+    let row = &ideal.ir_labels[240 * WIDTH..241 * WIDTH];
+    let second: Vec<usize> = (250..WIDTH).filter(|&u| row[u] == ATTACHED).collect();
+    assert!(
+        second.len() >= 6
+            && (second[0] as f64 - first_ends).abs() <= 1.0
+            && second.last().unwrap().abs_diff(308) <= 1
+            && second.windows(2).all(|w| w[1] == w[0] + 1),
+        "the second shadow's visible part {second:?}, by hand from {first_ends:.1} to 308"
+    );
+    let (mut found, mut truth) = (0, 0);
+    let mut all = Confusion::default();
+    for seed in 40..42 {
+        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        let out = classify_rgb(&calib, &frame);
+        all.add(&frame.ir_labels, &out.ir_labels);
+        for i in (0..PIXELS).filter(|&i| i % WIDTH >= 290 && frame.ir_labels[i] == ATTACHED) {
+            truth += 1;
+            found += usize::from(out.ir_labels[i] == ATTACHED);
+        }
+    }
+    let recall = found as f64 / truth as f64;
+    at_least(
+        &all,
+        Some(ATTACHED),
+        0.96,
+        "IR attached of two black boxes side by side",
+    );
+    assert!(
+        truth > 1500 && recall > 0.7,
+        "second shadow: {found} of {truth}"
+    );
+}
+
+#[test]
 fn black_poster_at_the_left_border_casts_no_shadow_from_colour() {
     // A black poster on the wall at 3 m, from past the left border to x = −0.9 m (column 138),
     // 1.8 m tall: a hole from column 0 with wall on its right, black in the RGB image up to its

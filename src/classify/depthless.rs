@@ -57,6 +57,7 @@ mod offimage;
 mod pairs;
 mod patch;
 mod rod_in_shadow;
+mod second;
 mod silhouette;
 mod tail;
 mod thin_rod;
@@ -293,6 +294,9 @@ pub struct ColourSplit {
     /// Per row of the current frame, the shadow a split found there and
     /// [`ColourSplit::under_unmeasured`] refused, if one did.
     unmeasured: Vec<Option<(usize, usize)>>,
+    /// Per row of the current frame, the first second occluder and shadow read in a split's
+    /// hole ([`ColourSplit::second_pair`]), applied once the rows around agree.
+    second: Vec<Option<second::Placed>>,
 }
 
 /// Prefix counts over the RGB columns under a hole of those that look like background, and the
@@ -381,6 +385,7 @@ impl ColourSplit {
             masks: vec![HoleMask::of(&[]); HEIGHT],
             border: vec![None; HEIGHT],
             border_read: vec![None; HEIGHT],
+            second: vec![None; HEIGHT],
             unmeasured: vec![None; HEIGHT],
             prefix: Prefix {
                 bg_count: vec![0; WIDTH + 1],
@@ -483,6 +488,7 @@ impl ColourSplit {
         self.border.fill(None);
         self.border_read.fill(None);
         self.unmeasured.fill(None);
+        self.second.fill(None);
         self.noise_scale = super::noise::step_scale(super::noise::rgb_noise(rgb));
         // A real sensor's dead band along the right border (8 px or more in every row) would
         // read as an occluder's shadow running into the border in every row. The band is the
@@ -768,17 +774,17 @@ impl ColourSplit {
                     // +0.0145 summed over ten suites, l1 +0.011, recall +0.008, precision
                     // −0.0011; this project's suites +0.0012, precision ±0; the real frame
                     // unchanged).
-                    let edge = (c.closed || (c.b < b && !patched))
+                    let read = (c.closed || (c.b < b && !patched))
                         .then(|| self.agreed_right_edge(raw, rgb, labels, v, (a, b), &mut prefix))
-                        .flatten()
-                        .filter(|&t| {
-                            t <= (shift + EDGE_AGREE).max(2 * shift)
-                                && if c.closed {
-                                    2 * t >= shift
-                                } else {
-                                    t + EDGE_AGREE.max(shift / 2) >= shift
-                                }
-                        });
+                        .flatten();
+                    let edge = read.filter(|&t| {
+                        t <= (shift + EDGE_AGREE).max(2 * shift)
+                            && if c.closed {
+                                2 * t >= shift
+                            } else {
+                                t + EDGE_AGREE.max(shift / 2) >= shift
+                            }
+                    });
                     let runs_on = !c.closed && edge.is_some();
                     let end = if runs_on { b } else { c.b };
                     // An occluder narrower than its shift lets the projector light background
@@ -858,12 +864,26 @@ impl ColourSplit {
                             _ => span.fill(at),
                         }
                     }
+                    if occluder && code == ATTACHED && self.second[v].is_none() {
+                        let right = read
+                            .map(|t| self.raw_at_disp(self.disp(raw[v * WIDTH + b]) + t as f64));
+                        self.second[v] =
+                            self.second_pair(rgb, v, (c, s, at), b, right).map(|pair| {
+                                second::Placed {
+                                    pair,
+                                    occluder: (c.a + s, at),
+                                    wall: c.bg,
+                                    b,
+                                }
+                            });
+                    }
                 }
                 u = mask.next_hole(b.max(u + 1));
             }
         }
         self.prefix = prefix;
         self.bridge_left_border(raw, labels, filled);
+        self.place_second_pairs(raw, labels, filled);
     }
 
     /// Whether the shadow a split puts at `[c.a, c.a + s)` of row `v` (its occluder at `shift`)
