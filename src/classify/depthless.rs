@@ -864,7 +864,9 @@ impl ColourSplit {
                             _ => span.fill(at),
                         }
                     }
-                    if occluder && code == ATTACHED && self.second[v].is_none() {
+                    // The hole's right edge reads another shift than the split's occluder: a
+                    // second occluder may stand there, its shadow past the first.
+                    if occluder && code == ATTACHED && edge.is_none() && self.second[v].is_none() {
                         let right = read
                             .map(|t| self.raw_at_disp(self.disp(raw[v * WIDTH + b]) + t as f64));
                         self.second[v] =

@@ -100,6 +100,8 @@ impl ColourSplit {
         b: usize,
         right: Option<u16>,
     ) -> Option<SecondPair> {
+        // (The cheap tests first: most splits' holes hold one occluder.)
+        let at = right?;
         if c.behind || c.a < 2 {
             return None;
         }
@@ -165,7 +167,6 @@ impl ColourSplit {
         let start = (c.a + s + 1..b).find(|&u| x_at(u, at1) >= x_start)?;
         // The second occluder's edge, at the shift its right edge reads, ends the shadow, which
         // is no wider than that shift.
-        let at = right?;
         let end = (start..b).find(|&u| x_at(u, at) >= x_at(wall_to, bg))?;
         if (end - start) as f64 > self.disp(at) - d_bg + OVER as f64 + self.widen {
             return None;
