@@ -63,6 +63,27 @@ const BORDER_COLUMN: usize = 1;
 /// wider view shows as the wall's.
 const PAST: usize = 6;
 
+/// Whether half the columns `us` or more read unlike the wall (`is_wall` false), read only until
+/// that is decided: a black occluder near the camera spans hundreds of columns.
+pub(super) fn mostly_unlike(
+    us: std::ops::Range<usize>,
+    is_wall: impl Fn(usize) -> Option<bool>,
+) -> bool {
+    let half = us.len().div_ceil(2);
+    let (mut unlike, mut other) = (0, 0);
+    for u in us.clone() {
+        if is_wall(u) == Some(false) {
+            unlike += 1;
+        } else {
+            other += 1;
+        }
+        if unlike >= half || other > us.len() - half {
+            break;
+        }
+    }
+    unlike >= half
+}
+
 /// Why the strip beside a hole gave no reading.
 enum Unread {
     /// The surface right of the hole tells nothing of the occluder.
@@ -218,19 +239,7 @@ impl ColourSplit {
         if (occluder_start..occluder_start + EDGE).any(|u| is_wall(u) != Some(false)) {
             return Err(Refuted);
         }
-        let half = (occluder_end - occluder_start).div_ceil(2);
-        let (mut unlike, mut other) = (0, 0);
-        for u in occluder_start..occluder_end {
-            if is_wall(u) == Some(false) {
-                unlike += 1;
-            } else {
-                other += 1;
-            }
-            if unlike >= half || other > occluder_end - occluder_start - half {
-                break;
-            }
-        }
-        if unlike < half {
+        if !mostly_unlike(occluder_start..occluder_end, is_wall) {
             return Err(Refuted);
         }
         // The shift that moves the occluder's right edge (IR column `b`) onto the strip's start;
@@ -338,20 +347,7 @@ impl ColourSplit {
         {
             return None;
         }
-        // (Read until that is decided: a black box near the camera spans hundreds of columns.)
-        let half = (b - seen).div_ceil(2);
-        let (mut unlike, mut other) = (0, 0);
-        for u in seen..b {
-            if is_wall(u) == Some(false) {
-                unlike += 1;
-            } else {
-                other += 1;
-            }
-            if unlike >= half || other > b - seen - half {
-                break;
-            }
-        }
-        if unlike < half {
+        if !mostly_unlike(seen..b, is_wall) {
             return None;
         }
         // The shadow's end: the occluder's left edge at the shift that starts it at the border.

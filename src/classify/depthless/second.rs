@@ -14,6 +14,7 @@
 //! and an occluder (this project's suites: complex any-shadow precision −0.08 summed).
 //! A row's reading is placed once a row within two reads its second shadow alike.
 
+use super::left_border::mostly_unlike;
 use super::{hue_dist, Candidate, ColourSplit, COLOUR_STEP, MIN_HOLE};
 use crate::labels::{ATTACHED, HEIGHT, NO_DEPTH, OTHER, WIDTH};
 
@@ -129,19 +130,7 @@ impl ColourSplit {
             unlike == EDGE
         })? + 1
             - EDGE;
-        let half = (b - wall_to).div_ceil(2);
-        let (mut occ, mut other) = (0, 0);
-        for u in wall_to..b {
-            if is_wall(u) == Some(false) {
-                occ += 1;
-            } else {
-                other += 1;
-            }
-            if occ >= half || other > b - wall_to - half {
-                break;
-            }
-        }
-        if occ < half {
+        if !mostly_unlike(wall_to..b, is_wall) {
             return None;
         }
         // Each probe blends three RGB columns, so an edge reads a column late from the occluder's
