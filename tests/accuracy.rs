@@ -999,6 +999,66 @@ fn attached_shadow_of_a_black_box_at_the_left_border_before_another_surface_is_r
 }
 
 #[test]
+fn black_box_at_the_left_border_before_a_wall_in_bands_is_read_past_it() {
+    // The box and panel of the test above (the box 0.38 m tall, so the panel stands right of it
+    // in every row) before a wall in level bands 2.5 cm tall (5 rows at 3 m), pale and blue by
+    // turns: the wall past the border shows a row's band, and the wall measured above the box's
+    // top, one spot of it, the other band in half the rows. Spots 3 rows apart up the column
+    // find the row's band in every row. Measured: IR attached F1 0.869 → 0.931 (recall 0.768 →
+    // 0.871; rows between two readings took theirs before).
+    let calib = Calibration::nyu_default();
+    let u_left = 26.0;
+    let mut scene = Scene::new("black box at the left border before a wall in bands");
+    for k in -48..48 {
+        let colour = if k % 2 == 0 {
+            [0.8, 0.78, 0.7]
+        } else {
+            [0.45, 0.6, 0.75]
+        };
+        push_box(
+            &mut scene,
+            "wall",
+            [0.0, 0.025 * (f64::from(k) + 0.5), 3.05],
+            [4.0, 0.0125, 0.05],
+            umbra::synth::Material::matte(colour),
+        );
+    }
+    let x_left = (u_left - calib.depth.cx) / calib.depth.fx;
+    push_black_box(
+        &mut scene,
+        "box",
+        [x_left + 0.15, 0.0, 1.05],
+        [0.15, 0.19, 0.05],
+    );
+    let x_right = x_left + 0.3;
+    push_box(
+        &mut scene,
+        "panel",
+        [2.0 * x_right - 0.1 + 0.5, 0.0, 2.025],
+        [0.5, 0.4, 0.025],
+        umbra::synth::Material::matte([0.7, 0.2, 0.15]),
+    );
+    // The simulator agrees: the shadow from the border to the box in the box's rows.
+    let ideal = render_frame(&scene, &calib, &SensorModel::ideal(), 40);
+    for v in (150..340).step_by(30) {
+        let row = &ideal.ir_labels[v * WIDTH..(v + 1) * WIDTH];
+        let cols: Vec<usize> = (0..WIDTH).filter(|&u| row[u] == ATTACHED).collect();
+        assert!(
+            cols.first() == Some(&0) && (cols.len() as f64 - u_left).abs() <= 1.0,
+            "row {v}: the scene's shadow {cols:?}, by hand to {u_left}"
+        );
+    }
+    let (depth_only, with_rgb) = with_and_without_colour(&scene, 40..42, false, |_| {});
+    assert!(depth_only.class(ATTACHED).recall.unwrap_or(0.0) < 0.05);
+    at_least(
+        &with_rgb,
+        Some(ATTACHED),
+        0.9,
+        "IR attached of a black box at the left border before a wall in bands",
+    );
+}
+
+#[test]
 fn second_black_box_beside_the_first_gets_its_shadow_past_the_first() {
     // Two black boxes before the pale wall at 3 m: the first's front face at 1 m over IR columns
     // 200–300, the second's at 1.6 m from column 308. The first's shadow is f·b·(1/1 − 1/3) =

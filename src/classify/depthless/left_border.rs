@@ -62,6 +62,10 @@ const BORDER_COLUMN: usize = 1;
 /// Pixels past the IR image's left border (at the wall's depth) whose colour the RGB camera's
 /// wider view shows as the wall's.
 const PAST: usize = 6;
+/// Spots of the surface measured above or below the hole at which its colour is compared with
+/// the wall's past the border, and the rows between them.
+const SPOTS: usize = 4;
+const SPOT_ROWS: usize = 3;
 
 /// Whether half the columns `us` or more read unlike the wall (`is_wall` false), read only until
 /// that is decided: a black occluder near the camera spans hundreds of columns.
@@ -328,9 +332,23 @@ impl ColourSplit {
         }
         // And it is the surface measured there: past the border the RGB camera may see the
         // occluder itself (a glossy sphere's shaded side, the hole's highlight its "edge").
+        // (At a few spots of it, 3 rows apart: a wall in bands or blotches shows the row's colour
+        // at one of them, if not at the first.)
         let alike = |(w, r): (usize, u16)| {
-            self.probe(rgb, BORDER_COLUMN, w, r)
-                .is_some_and(|p| hue_dist(p, wall) < step)
+            (0..SPOTS).any(|k| {
+                let w = if w < v {
+                    w.checked_sub(SPOT_ROWS * k)
+                } else {
+                    Some(w + SPOT_ROWS * k).filter(|&w| w < HEIGHT)
+                };
+                w.is_some_and(|w| {
+                    let q = raw[w * WIDTH + BORDER_COLUMN];
+                    self.on_surface(q, r)
+                        && self
+                            .probe(rgb, BORDER_COLUMN, w, q)
+                            .is_some_and(|p| hue_dist(p, wall) < step)
+                })
+            })
         };
         if !alike(up) && !down.is_some_and(alike) {
             return None;
