@@ -2435,6 +2435,12 @@ fn detached_beyond_sb(
     sb_run <= THIN_SB && search_occluder(p, raw, h, Some(sa), sb, rows, Search::BeyondSb).measured()
 }
 
+/// Most pixels of an occluder's other limb past the hole its right part runs into (a glossy
+/// cylinder measured at its two edges only) that count towards its width.
+const LIMB_MAX: usize = 16;
+/// How far (in steps of `min_step`) that limb's disparity may lie from the occluder's right end's.
+const LIMB_STEPS: f32 = 3.0;
+
 /// Fewest pixels of a nearer surface left of a hole (Sa's) behind which a detached shadow's
 /// left part may hide, merged with the surface's own dropout: a single nearer pixel is more
 /// often a sliver between two holes (a black poster's) than an object.
@@ -2731,7 +2737,17 @@ fn search_occluder(
             // Likewise one running into a hole (its right part black, or in another object's
             // shadow): up to that hole's end.
             let hidden_right = if !cut && raw[fb + 1] == NO_DEPTH {
-                raw[fb + 1..].iter().take_while(|&&r| r == NO_DEPTH).count() as f32
+                let gap = raw[fb + 1..].iter().take_while(|&&r| r == NO_DEPTH).count();
+                // Past the hole, the occluder's other limb at about its depth (a glossy
+                // cylinder measured at its two edges only): its width runs on through it.
+                let limb = raw[fb + 1 + gap..]
+                    .iter()
+                    .take(LIMB_MAX)
+                    .take_while(|&&r| {
+                        r != NO_DEPTH && (p.disp(r) - d_fb).abs() <= LIMB_STEPS * p.min_step
+                    })
+                    .count();
+                (gap + limb) as f32
             } else {
                 0.0
             };
@@ -4271,6 +4287,26 @@ mod tests {
             "{:?}",
             &l[fa - w - 1..=fb - w + 1]
         );
+    }
+
+    #[test]
+    fn glossy_rod_measured_at_its_two_limbs_casts_its_whole_detached_shadow() {
+        // A rod 24 px wide at 0.6 m before a wall at 3 m, glossy: the sensor measures its two
+        // limbs (4 and 10 px) and nothing between. By hand its shadow is shifted w = f·b·(1/0.6 −
+        // 1/3) = 58 px left, [fa − 58, fb − 58], lit wall between it and the rod. Read from the
+        // left limb and the rod's hole past it, eq. (5) ends the shadow 10 px short of the
+        // hole's end (the rest was OTHER); the limb past that hole, at the same depth, is the
+        // same rod.
+        let c = Calibration::nyu_default();
+        let w = (c.fb() * (1.0 / 0.6 - 1.0 / 3.0)).round() as usize;
+        assert_eq!(w, 58);
+        let mut row = vec![raw_at(&c, 3.0); WIDTH];
+        let (fa, fb) = (300, 323);
+        row[fa..=fb].fill(raw_at(&c, 0.6));
+        row[fa + 4..=fb - 10].fill(NO_DEPTH);
+        row[fa - w..=fb - w].fill(NO_DEPTH);
+        let l = run(&row);
+        assert_run(&l, fa - w..fb - w + 1, DETACHED);
     }
 
     #[test]
