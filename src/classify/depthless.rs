@@ -984,7 +984,11 @@ impl ColourSplit {
     /// Whether the depthless occluder an open hole's split puts right of its shadow (`s`
     /// pixels from `c.a`, at `shift`) is plainly narrower than its shift, where a surface
     /// farther than the occluder is measured from the hole's end `b` on: nothing nearer hides
-    /// its right part there, so the IR camera sees all of it. An attached shadow's occluder is at
+    /// its right part there, so the IR camera sees all of it. So for a closed hole read as an
+    /// open one, the wall on both sides (a glossy surface's dropout, its own colour and then a
+    /// darker square of its pattern, read as a shadow and its occluder: the sixth simulator's
+    /// twelve suites, complex IR attached F1 +0.011 summed, any-shadow precision +0.022, recall
+    /// −0.001; this project's suites +0.002, recall −0.003; the real frame unchanged). An attached shadow's occluder is at
     /// least as wide as its shift (narrower, and a lit gap parts them: detached), so the colour
     /// change the split read is no such occluder's edge (a glossy box's dropouts past its
     /// measured part show the box's own colour, then the next object's). An independent
@@ -999,7 +1003,7 @@ impl ColourSplit {
         s: usize,
         shift: usize,
     ) -> bool {
-        if c.closed || c.behind || c.opened || c.b != b || b >= WIDTH || row[b] == NO_DEPTH {
+        if c.closed || c.behind || c.b != b || b >= WIDTH || row[b] == NO_DEPTH {
             return false;
         }
         // Nearer the background than the occluder (the occluder's own measured part reads up to
