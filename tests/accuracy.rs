@@ -916,6 +916,30 @@ fn told_by_colour_alone(scene: &Scene, by_hand: impl Fn(usize, &[usize]), f1: f6
     at_least(&with_rgb, Some(ATTACHED), f1, what);
 }
 
+/// Checks a row's attached columns against a shadow from the left border to the occluder's
+/// front face at column `u_left` (within a pixel), as the left-border tests compute it by hand.
+fn shadow_from_the_border_to(u_left: f64) -> impl Fn(usize, &[usize]) {
+    move |v, cols| {
+        assert!(
+            cols.first() == Some(&0) && (cols.len() as f64 - u_left).abs() <= 1.0,
+            "row {v}: the scene's shadow {cols:?}, by hand to {u_left}"
+        )
+    }
+}
+
+/// A red panel 1 m wide and 0.8 m tall at 2 m, from 0.1 m behind the right edge of an occluder
+/// whose front face, 1 m away, ends at x = `x_right`: the surface right of its hole is then
+/// another one than the wall at the border.
+fn push_red_panel_behind(scene: &mut Scene, x_right: f64) {
+    push_box(
+        scene,
+        "panel",
+        [2.0 * x_right - 0.1 + 0.5, 0.0, 2.025],
+        [0.5, 0.4, 0.025],
+        umbra::synth::Material::matte([0.7, 0.2, 0.15]),
+    );
+}
+
 /// A black box 0.3 m wide and 0.6 m tall whose front face, 1 m away, starts at IR column
 /// `u_left`, before a wall at 3 m.
 fn black_box_at_the_left_border(u_left: f64) -> Scene {
@@ -947,12 +971,7 @@ fn attached_shadow_of_a_black_box_running_off_the_left_border_is_told_by_colour(
     let scene = black_box_at_the_left_border(u_left);
     told_by_colour_alone(
         &scene,
-        |v, cols| {
-            assert!(
-                cols.first() == Some(&0) && (cols.len() as f64 - u_left).abs() <= 1.0,
-                "row {v}: the scene's shadow {cols:?}, by hand to {u_left}"
-            )
-        },
+        shadow_from_the_border_to(u_left),
         0.9,
         "IR attached of a black box at the left border",
     );
@@ -977,22 +996,10 @@ fn attached_shadow_of_a_black_box_at_the_left_border_before_another_surface_is_r
         "{shift}"
     );
     let mut scene = black_box_at_the_left_border(u_left);
-    let x_right = (u_left - calib.depth.cx) / calib.depth.fx + 0.3;
-    push_box(
-        &mut scene,
-        "panel",
-        [2.0 * x_right - 0.1 + 0.5, 0.0, 2.025],
-        [0.5, 0.4, 0.025],
-        umbra::synth::Material::matte([0.7, 0.2, 0.15]),
-    );
+    push_red_panel_behind(&mut scene, (u_left - calib.depth.cx) / calib.depth.fx + 0.3);
     told_by_colour_alone(
         &scene,
-        |v, cols| {
-            assert!(
-                cols.first() == Some(&0) && (cols.len() as f64 - u_left).abs() <= 1.0,
-                "row {v}: the scene's shadow {cols:?}, by hand to {u_left}"
-            )
-        },
+        shadow_from_the_border_to(u_left),
         0.9,
         "IR attached of a black box at the left border before a panel",
     );
@@ -1030,23 +1037,14 @@ fn black_box_at_the_left_border_before_a_wall_in_bands_is_read_past_it() {
         [x_left + 0.15, 0.0, 1.05],
         [0.15, 0.19, 0.05],
     );
-    let x_right = x_left + 0.3;
-    push_box(
-        &mut scene,
-        "panel",
-        [2.0 * x_right - 0.1 + 0.5, 0.0, 2.025],
-        [0.5, 0.4, 0.025],
-        umbra::synth::Material::matte([0.7, 0.2, 0.15]),
-    );
+    push_red_panel_behind(&mut scene, x_left + 0.3);
     // The simulator agrees: the shadow from the border to the box in the box's rows.
     let ideal = render_frame(&scene, &calib, &SensorModel::ideal(), 40);
+    let by_hand = shadow_from_the_border_to(u_left);
     for v in (150..340).step_by(30) {
         let row = &ideal.ir_labels[v * WIDTH..(v + 1) * WIDTH];
         let cols: Vec<usize> = (0..WIDTH).filter(|&u| row[u] == ATTACHED).collect();
-        assert!(
-            cols.first() == Some(&0) && (cols.len() as f64 - u_left).abs() <= 1.0,
-            "row {v}: the scene's shadow {cols:?}, by hand to {u_left}"
-        );
+        by_hand(v, &cols);
     }
     let (depth_only, with_rgb) = with_and_without_colour(&scene, 40..42, false, |_| {});
     assert!(depth_only.class(ATTACHED).recall.unwrap_or(0.0) < 0.05);

@@ -988,8 +988,9 @@ impl ColourSplit {
     /// open one, the wall on both sides (a glossy surface's dropout, its own colour and then a
     /// darker square of its pattern, read as a shadow and its occluder: the sixth simulator's
     /// twelve suites, complex IR attached F1 +0.011 summed, any-shadow precision +0.022, recall
-    /// −0.001; this project's suites +0.002, recall −0.003; the real frame unchanged). An attached shadow's occluder is at
-    /// least as wide as its shift (narrower, and a lit gap parts them: detached), so the colour
+    /// −0.001; this project's suites +0.002, recall −0.003; the real frame 1 px attached →
+    /// OTHER). An attached shadow's occluder is at least as wide as its shift (narrower, and a
+    /// lit gap parts them: detached), so the colour
     /// change the split read is no such occluder's edge (a glossy box's dropouts past its
     /// measured part show the box's own colour, then the next object's). An independent
     /// simulator's 16 suites: complex IR attached F1 +0.070 summed, any-shadow precision +0.090,
