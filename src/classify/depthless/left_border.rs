@@ -90,8 +90,9 @@ pub(super) fn mostly_unlike(
 
 /// Why the strip beside a hole gave no reading.
 enum Unread {
-    /// The surface right of the hole tells nothing of the occluder.
-    Beside,
+    /// The surface right of the hole tells nothing of the occluder; `solid` once the hole was
+    /// found to be a solid's (read before the colours, and not again).
+    Beside { solid: bool },
     /// The hole is no occluder and shadow.
     Refuted,
 }
@@ -152,7 +153,7 @@ impl ColourSplit {
         }
         match self.by_strip(raw, rgb, v, b, range) {
             Ok(split) => Some(split),
-            Err(Unread::Beside) => self.past_border(raw, rgb, v, b, range),
+            Err(Unread::Beside { solid }) => self.past_border(raw, rgb, v, b, range, solid),
             Err(Unread::Refuted) => None,
         }
     }
@@ -172,7 +173,7 @@ impl ColourSplit {
         let bg = row[b];
         let beside = b..(b + SLOPE_SPAN).min(WIDTH);
         if self.wall_leaves_range(raw, v, bg, beside, true, range) != Some(false) {
-            return Err(Beside);
+            return Err(Beside { solid: false });
         }
         let d_bg = self.disp(bg);
         let widest = self.widest(bg);
@@ -185,14 +186,14 @@ impl ColourSplit {
             .count();
         // (The depth tests before the colour ones: they are cheaper, and most holes fail them.)
         if run < MIN_SURFACE {
-            return Err(Beside);
+            return Err(Beside { solid: false });
         }
         if !self.solid(raw, v, (0, b)) {
             return Err(Refuted);
         }
         let wall = self
             .mean_colour(rgb, v, b..b + run.min(SIDE), bg)
-            .ok_or(Beside)?;
+            .ok_or(Beside { solid: true })?;
         // A patterned wall's stripes are no occluder: the step rises to the wall's own spread
         // (over the surface's own run: a nearer object beside it is no part of its pattern).
         let spread = self.wall_spread(rgb, v, b..b + run, bg, wall);
@@ -201,7 +202,7 @@ impl ColourSplit {
         // Past four times the plain step the pattern itself holds colours as far apart as a
         // wall's and an occluder's (a patterned box beside the hole): nothing reads against it.
         if step > 4 * base {
-            return Err(Beside);
+            return Err(Beside { solid: true });
         }
         let is_wall = |u: usize| self.probe(rgb, u, v, bg).map(|p| hue_dist(p, wall) < step);
         // From the hole's right end leftwards: the strip, the occluder, the shadow.
@@ -210,7 +211,7 @@ impl ColourSplit {
             .take_while(|&u| is_wall(u) == Some(true))
             .count();
         if strip < MIN_STRIP || 3 * strip > widest + 3 {
-            return Err(Beside);
+            return Err(Beside { solid: true });
         }
         let occluder_end = b - strip;
         // The shadow from the border on: the wall's colour up to the occluder's left edge,
@@ -232,7 +233,7 @@ impl ColourSplit {
         }
         // The wall seen at the border is not the surface beside the hole.
         if seen < MIN_STRIP {
-            return Err(Beside);
+            return Err(Beside { solid: true });
         }
         let occluder_start = occluder_start.ok_or(Refuted)?;
         if occluder_end - occluder_start < MIN_HOLE {
@@ -300,6 +301,7 @@ impl ColourSplit {
         v: usize,
         b: usize,
         range: Range,
+        solid: bool,
     ) -> Option<BorderSplit> {
         // The wall at the border, measured above the hole, or below it where that is farther (a
         // floor below is nearer than the wall). Not measured above, or at the range's end, it
@@ -313,7 +315,7 @@ impl ColourSplit {
         let up = (0..v).rev().find_map(measured)?;
         let down = (v + 1..HEIGHT).find_map(measured);
         let bg = down.map_or(up.1, |(_, r)| r.max(up.1));
-        if bg + 3 * NEAR_FAR >= range.far || !self.solid(raw, v, (0, b)) {
+        if bg + 3 * NEAR_FAR >= range.far || !(solid || self.solid(raw, v, (0, b))) {
             return None;
         }
         let d_bg = self.disp(bg);
