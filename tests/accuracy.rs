@@ -1057,6 +1057,61 @@ fn black_box_at_the_left_border_before_a_wall_in_bands_is_read_past_it() {
 }
 
 #[test]
+fn black_box_before_a_banded_wall_and_a_farther_one_keeps_its_attached_shadow() {
+    // A wall at 2.5 m papered in bands 4 px wide, cream and blue by turns, up to IR column 300,
+    // a pale wall at 3.5 m past its edge, and a black box whose front face, 1 m away, spans
+    // columns 220–340: its hole runs from its shadow on the banded wall to the farther wall.
+    // The shadow is f·b·(1/1 − 1/2.5) = 26.2 px wide by hand. The bands differ by more than the
+    // plain colour step, so the shadow's columns count as wall only within the banded wall's
+    // own spread; a farther surface right of the hole once left the near side's texture
+    // unread (the near side might be an object whose shading is no texture). The banded side
+    // is one plane, so its texture is read. Measured (seeds 40–41): IR attached F1 0.002 →
+    // 0.983.
+    let calib = Calibration::nyu_default();
+    let x_at = |u: f64, z: f64| (u - calib.depth.cx) / calib.depth.fx * z;
+    let mut scene = Scene::new("black box before a banded wall and a farther one");
+    scene.push(
+        "far wall",
+        wall(3.5),
+        umbra::synth::Material::matte([0.8, 0.8, 0.8]),
+    );
+    let band = x_at(4.0, 2.5) - x_at(0.0, 2.5);
+    let (cream, blue) = ([0.8, 0.78, 0.7], [0.35, 0.5, 0.7]);
+    push_bands(&mut scene, (x_at(300.0, 2.5), band, 2.5), -90..0, |k| {
+        if k % 2 == 0 {
+            cream
+        } else {
+            blue
+        }
+    });
+    let (x1, x2) = (x_at(220.0, 1.0), x_at(340.0, 1.0));
+    push_black_box(
+        &mut scene,
+        "box",
+        [(x1 + x2) / 2.0, 0.0, 1.05],
+        [(x2 - x1) / 2.0, 0.19, 0.05],
+    );
+    let width = calib.fb() * (1.0 - 1.0 / 2.5);
+    let ideal = render_frame(&scene, &calib, &SensorModel::ideal(), 40);
+    for v in (200..280).step_by(20) {
+        let row = &ideal.ir_labels[v * WIDTH..(v + 1) * WIDTH];
+        let n = row.iter().filter(|&&l| l == ATTACHED).count() as f64;
+        assert!(
+            (n - width).abs() <= 1.5,
+            "row {v}: {n} px of shadow, {width:.1} by hand"
+        );
+    }
+    let (depth_only, with_rgb) = with_and_without_colour(&scene, 40..42, false, |_| {});
+    assert!(depth_only.class(ATTACHED).recall.unwrap_or(0.0) < 0.05);
+    at_least(
+        &with_rgb,
+        Some(ATTACHED),
+        0.95,
+        "IR attached of a black box before a banded wall and a farther one",
+    );
+}
+
+#[test]
 fn second_black_box_beside_the_first_gets_its_shadow_past_the_first() {
     // Two black boxes before the pale wall at 3 m: the first's front face at 1 m over IR columns
     // 200–300, the second's at 1.6 m from column 308. The first's shadow is f·b·(1/1 − 1/3) =
