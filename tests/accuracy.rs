@@ -3814,6 +3814,44 @@ fn black_rod_before_a_boldly_banded_wall_has_its_attached_shadow_split_off() {
 }
 
 #[test]
+fn black_rod_before_a_dim_wall_of_two_colours_has_its_attached_shadow_split_off() {
+    // The rod and wall of the test above, the wall in dim olive and dim mauve bands (each side
+    // of the hole about 80 of 255 a channel, too dim for their colours to be told apart as
+    // two surfaces'), the rod painted a deeper black (about 22): less than half as bright as
+    // either side. Its shadow, f·b·(1/1.5 − 1/2.31) = 10.2 px, lies on the olive band, the
+    // wall right of the hole on the mauve one. A narrow hole whose sides differ was read from
+    // the left only where they differ as lit surfaces do; a black thing in it is read too.
+    // Measured (seeds 70–72): IR attached F1 0.103 → 0.985.
+    let (x_rod, z_rod, z_wall) = (-0.2, 1.5, 2.31);
+    let mut scene = Scene::new("black rod before a dim wall of two colours");
+    push_bands(&mut scene, (-0.33, 0.12, z_wall), -10..10, |k| {
+        if k % 2 == 0 {
+            [0.11, 0.08, 0.09]
+        } else {
+            [0.10, 0.11, 0.03]
+        }
+    });
+    let rod = Scene::rod_before_wall(x_rod, z_rod, 0.0165, z_wall).objects[1].clone();
+    let paint = umbra::synth::Material {
+        colour: [0.005; 3],
+        ..umbra::synth::Material::black()
+    };
+    scene.push("rod", rod.shape, paint);
+    let (depth_only, with_rgb) = with_and_without_colour(&scene, 70..73, false, |_| {});
+    let alone = depth_only.class(ATTACHED).recall.unwrap_or(0.0);
+    assert!(
+        alone < 0.2,
+        "depth alone splits the hole: attached recall {alone:.3}"
+    );
+    at_least(
+        &with_rgb,
+        Some(ATTACHED),
+        0.95,
+        "IR attached of a black rod before a dim wall of two colours",
+    );
+}
+
+#[test]
 fn black_rod_before_a_wall_of_two_hues_has_its_attached_shadow_split_off() {
     // A black rod 3.7 cm thick at 2.2 m before a wall at 2.9 m papered in vertical bands 6 cm
     // wide of two purples that differ in hue (green 0.25 against 0.35): thicker than
