@@ -1406,17 +1406,18 @@ impl ColourSplit {
     /// of its holes called attached). Complex IR attached F1 +0.0010 on seed 5150 and +0.0002
     /// on seed 9053 (both sensors), the other suites within ±0.0001; on the real frame three
     /// RGB-view pixels at the end of one dark hole change.
-    /// True when the RGB camera sees something less than half as bright as either side of the
-    /// narrow closed hole `c` of row `v` (side colours `l`, `r` from
-    /// [`ColourSplit::side_probes`]) three quarters of the way along it, where an occluder
-    /// standing in it would be: a black rod, whose shadow on the left is read from the left
-    /// whatever the sides' colours (a checkered or banded wall's squares differ on its two
-    /// sides; a dropout in a plain wall shows the wall's colour). Not within a third of the
-    /// widest shift of the left border ([`ColourSplit::sides_two_surfaces`]), nor beside sides
-    /// too dim to show a darker thing (half of [`DIM_FLOOR`]: a real basement frame's ceiling
-    /// in the dark, by a darker pipe, had 54 px called shadows). The sixth simulator: complex
-    /// IR attached F1 +0.0179 summed over twelve suites, detached +0.0033, any-shadow
-    /// precision +0.0013, recall +0.0269; this project's suites +0.0008.
+    /// True when the sides of the narrow closed hole `c` of row `v` (colours `l`, `r` from
+    /// [`ColourSplit::side_probes`]) differ in colour, and the RGB camera sees something less
+    /// than half as bright as either three quarters of the way along the hole, where an
+    /// occluder standing in it would be: a black rod before a checkered or banded wall, whose
+    /// shadow on the left is read from the left, however dimly the sides are lit. (Sides of one
+    /// colour are one surface, and a dark patch between them a dropout's: a turned board's.)
+    /// Not within a third of the widest shift of the left border
+    /// ([`ColourSplit::sides_two_surfaces`]), nor beside sides too dim to show a darker thing
+    /// (half of [`DIM_FLOOR`]: a real basement frame's dark ceiling, by a darker pipe, had 54 px
+    /// called shadows). The sixth simulator: complex IR attached F1 +0.0166 summed over twelve
+    /// suites, detached +0.0030, any-shadow precision +0.0011, recall +0.0251; this project's
+    /// suites +0.0006.
     fn dark_between(
         &self,
         rgb: &[u8],
@@ -1430,6 +1431,7 @@ impl ColourSplit {
         let bright = |p: [i32; 3]| p.iter().sum::<i32>();
         let lit = bright(l).min(bright(r));
         2 * lit >= DIM_FLOOR
+            && hue_dist(l, r) > self.dimmed(SIDES_AGREE, l)
             && self
                 .probe(rgb, (c.a + 3 * c.b) / 4, v, c.bg)
                 .is_some_and(|q| 2 * bright(q) < lit)
