@@ -1394,18 +1394,6 @@ impl ColourSplit {
         Some((probe(a - 2)?, probe((b + 1).min(WIDTH - 1))?))
     }
 
-    /// True when the sides of a hole starting at `a` (raw value `bg`; colours `l`, `r` from
-    /// [`ColourSplit::side_probes`]), one surface by depth, are two by colour, both lit well enough to tell: an occluder without depth stands
-    /// where one surface ends before another a few centimetres behind it (a glossy rod at a
-    /// cyan sphere's edge before a white wall), and its shadow on the left one must be read
-    /// from the left. Not within a third of the widest shift of the left border, where the
-    /// wall [`ColourSplit::nothing_seen_before`] reads is cut short: there the left side may
-    /// be a near rod itself, seen by the RGB camera over the wall (a pale rod beside the
-    /// border: seed 424242 lost 0.0055 of complex IR attached F1 and 0.0083 of precision).
-    /// Nor on dark sides: black clutter's hues are the camera's noise (the real frame: 182 px
-    /// of its holes called attached). Complex IR attached F1 +0.0010 on seed 5150 and +0.0002
-    /// on seed 9053 (both sensors), the other suites within ±0.0001; on the real frame three
-    /// RGB-view pixels at the end of one dark hole change.
     /// True when the sides of the narrow closed hole `c` of row `v` (colours `l`, `r` from
     /// [`ColourSplit::side_probes`]) differ in colour, and the RGB camera sees something less
     /// than half as bright as either three quarters of the way along the hole, where an
@@ -1437,6 +1425,18 @@ impl ColourSplit {
                 .is_some_and(|q| 2 * bright(q) < lit)
     }
 
+    /// True when the sides of a hole starting at `a` (raw value `bg`; colours `l`, `r` from
+    /// [`ColourSplit::side_probes`]), one surface by depth, are two by colour, both lit well enough to tell: an occluder without depth stands
+    /// where one surface ends before another a few centimetres behind it (a glossy rod at a
+    /// cyan sphere's edge before a white wall), and its shadow on the left one must be read
+    /// from the left. Not within a third of the widest shift of the left border, where the
+    /// wall [`ColourSplit::nothing_seen_before`] reads is cut short: there the left side may
+    /// be a near rod itself, seen by the RGB camera over the wall (a pale rod beside the
+    /// border: seed 424242 lost 0.0055 of complex IR attached F1 and 0.0083 of precision).
+    /// Nor on dark sides: black clutter's hues are the camera's noise (the real frame: 182 px
+    /// of its holes called attached). Complex IR attached F1 +0.0010 on seed 5150 and +0.0002
+    /// on seed 9053 (both sensors), the other suites within ±0.0001; on the real frame three
+    /// RGB-view pixels at the end of one dark hole change.
     fn sides_two_surfaces(&self, a: usize, bg: u16, (l, r): ([i32; 3], [i32; 3])) -> bool {
         if a < self.widest(bg) / 3 + SIDE {
             return false;
