@@ -3852,6 +3852,46 @@ fn black_rod_before_a_dim_wall_of_two_colours_has_its_attached_shadow_split_off(
 }
 
 #[test]
+fn black_rod_before_a_wall_in_a_noisy_colour_image_keeps_its_attached_shadow() {
+    // A black rod 4 cm thick at 1.5 m before a dull wall at 2.5 m, one surface on both sides of
+    // its hole, its shadow f·b·(1/1.5 − 1/2.5) = 11.7 px; the RGB camera's noise at σ = 12 a
+    // channel (a dim room, the gain turned up). Each row's split then fails now and then on its
+    // own, and a row whose neighbours both failed lost its shadow while it had to agree with
+    // one. Measured (seeds 70–72): IR attached F1 0.936 → 0.966 (at σ = 16, 0.476 → 0.690).
+    let (x_rod, z_rod, z_wall) = (-0.2, 1.5, 2.5);
+    let mut scene = Scene::new("black rod before a wall in a noisy colour image");
+    scene.push(
+        "wall",
+        wall(z_wall),
+        umbra::synth::Material::matte([0.3, 0.28, 0.25]),
+    );
+    let rod = Scene::rod_before_wall(x_rod, z_rod, 0.02, z_wall).objects[1].clone();
+    scene.push("rod", rod.shape, umbra::synth::Material::black());
+    let calib = Calibration::nyu_default();
+    let sensor = SensorModel {
+        rgb_noise_sigma: 12.0,
+        ..SensorModel::kinect()
+    };
+    let mut with_rgb = Confusion::default();
+    for seed in 70..73 {
+        let frame = render_frame(&scene, &calib, &sensor, seed);
+        let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
+        let shadow = row.iter().filter(|&&l| l == ATTACHED).count();
+        assert!(
+            (10..=15).contains(&shadow),
+            "the simulator's shadow: {shadow} px (seed {seed})"
+        );
+        with_rgb.add(&frame.ir_labels, &classify_rgb(&calib, &frame).ir_labels);
+    }
+    at_least(
+        &with_rgb,
+        Some(ATTACHED),
+        0.955,
+        "IR attached of a black rod before a wall in a noisy colour image",
+    );
+}
+
+#[test]
 fn black_rod_before_a_wall_of_two_hues_has_its_attached_shadow_split_off() {
     // A black rod 3.7 cm thick at 2.2 m before a wall at 2.9 m papered in vertical bands 6 cm
     // wide of two purples that differ in hue (green 0.25 against 0.35): thicker than
@@ -6797,7 +6837,9 @@ fn black_boxs_shadow_along_its_slanted_top_edge_is_split_off() {
     // and a few pixels of box, and the box's edge moves 10 px or more from row to row; the
     // shadow's width read by colour strays by a few pixels with it, and those rows stayed
     // OTHER (attached recall 0.26 in them over three frames; 0.70 with a quarter of the
-    // edge's run allowed, 0.81 with a third).
+    // edge's run allowed, 0.81 with a third). Since a row of a hole with one surface on both
+    // sides needs no neighbour to agree: 0.929, and 38 px wrongly claimed where 22 were (a
+    // row's edge read a pixel or two off stands on its own).
     let calib = Calibration::nyu_default();
     let mut scene = before_a_pale_wall("a black box turned from the camera, above its centre");
     scene.push(
@@ -6836,7 +6878,7 @@ fn black_boxs_shadow_along_its_slanted_top_edge_is_split_off() {
     );
     let recall = found as f64 / truth as f64;
     assert!(
-        recall >= 0.75 && wrong * 50 <= found,
+        recall >= 0.75 && wrong * 100 <= 3 * found,
         "attached along the top edge: {found} of {truth} ({recall:.3}), {wrong} wrong"
     );
 }
