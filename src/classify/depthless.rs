@@ -1326,16 +1326,16 @@ impl ColourSplit {
         let s = self.split_memo(raw, rgb, v, c, prefix)?;
         // Only an open hole that a farther surface ends on the right needs a row to split
         // alike: its left side may be an object whose shadow fell behind it, read as a wall.
-        // Any other's split stands alone: the rows of a black rod's hole before a patterned wall, or in a
-        // noisy colour image, each fail now and then in their own way, and lost their shadows
-        // to their neighbours'. (The sixth simulator, twelve suites: complex IR attached F1
-        // +0.0207 summed for holes with one surface on both sides or read from the left, any-
-        // shadow recall +0.0363, precision −0.0052; this project's suites +0.0083, +0.0219,
-        // −0.0073, none worse than −0.0014. Then holes that run on into a nearer surface,
-        // another hole or the border: +0.0166, +0.0303, −0.0055 and +0.0052, +0.0169, −0.0080,
-        // none worse than −0.0020; the holdout's RGB precision 0.9810 → 0.9808 → 0.9805; the
-        // real frame unchanged. Those ended by a farther surface as well: +0.0015, precision
-        // −0.0062, RGB alignment −0.0044.)
+        // Any other's split stands alone: the rows of a black rod's hole before a patterned
+        // wall, or in a noisy colour image, each fail now and then in their own way, and lost
+        // their shadows to their neighbours'. (The sixth simulator, twelve suites: complex IR
+        // attached F1 +0.0207 summed for holes with one surface on both sides or read from the
+        // left, any-shadow recall +0.0363, precision −0.0052; this project's suites +0.0083,
+        // +0.0219, −0.0073, none worse than −0.0014. Then holes that run on into a nearer
+        // surface, another hole or the border: +0.0166, +0.0303, −0.0055 and +0.0052, +0.0169,
+        // −0.0080, none worse than −0.0020; the holdout's RGB precision 0.9810 → 0.9808 →
+        // 0.9805; the real frame unchanged. Those ended by a farther surface as well: +0.0015,
+        // precision −0.0062, RGB alignment −0.0044.)
         if c.closed || c.opened || !c.farther_right {
             return Some(s);
         }
@@ -1417,10 +1417,10 @@ impl ColourSplit {
     /// colour are one surface, and a dark patch between them a dropout's: a turned board's.)
     /// Not within a third of the widest shift of the left border
     /// ([`ColourSplit::sides_two_surfaces`]), nor beside sides too dim to show a darker thing
-    /// (half of [`DIM_FLOOR`]: a real basement frame's dark ceiling, by a darker pipe, had 54 px
-    /// called shadows). The sixth simulator: complex IR attached F1 +0.0166 summed over twelve
-    /// suites, detached +0.0030, any-shadow precision +0.0011, recall +0.0251; this project's
-    /// suites +0.0006.
+    /// (half of [`DIM_FLOOR`]: without it a real basement frame's dark ceiling, by a darker
+    /// pipe, had 54 px called shadows). The sixth simulator: complex IR attached F1 +0.0166
+    /// summed over twelve suites, detached +0.0030, any-shadow precision +0.0011, recall
+    /// +0.0251; this project's suites +0.0006.
     fn dark_between(
         &self,
         rgb: &[u8],
