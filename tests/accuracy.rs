@@ -1112,6 +1112,52 @@ fn black_box_before_a_banded_wall_and_a_farther_one_keeps_its_attached_shadow() 
 }
 
 #[test]
+fn black_box_whose_shadow_starts_at_a_band_edge_is_read_against_the_wall_right_of_it() {
+    // A wall at 3 m in bands 140 px wide, cream and blue by turns, a cream one ending at IR
+    // column 170, and a black box whose front face, 1 m away, spans columns 200–300: its
+    // shadow, f·b·(1/1 − 1/3) = 29.1 px by hand, starts on the blue band's first columns, as
+    // does the wall right of the hole (the band ends at 310). Beside the hole the wall is cream,
+    // in it blue: the hole's first pixel was unlike the wall beside it, and the hole was left
+    // OTHER. Measured (seeds 40–42): IR attached F1 0.000 → 0.863 (recall 0.76, precision 1).
+    let calib = Calibration::nyu_default();
+    let x_at = |u: f64, z: f64| (u - calib.depth.cx) / calib.depth.fx * z;
+    let mut scene = Scene::new("black box whose shadow starts at a band edge");
+    let (cream, blue) = ([0.8, 0.78, 0.7], [0.35, 0.5, 0.7]);
+    let band = x_at(140.0, 3.0) - x_at(0.0, 3.0);
+    push_bands(&mut scene, (x_at(170.0, 3.0), band, 3.0), -20..20, |k| {
+        if k % 2 == 0 {
+            blue
+        } else {
+            cream
+        }
+    });
+    let (x1, x2) = (x_at(200.0, 1.0), x_at(300.0, 1.0));
+    push_black_box(
+        &mut scene,
+        "box",
+        [(x1 + x2) / 2.0, 0.0, 1.05],
+        [(x2 - x1) / 2.0, 0.19, 0.05],
+    );
+    let width = calib.fb() * (1.0 - 1.0 / 3.0);
+    let ideal = render_frame(&scene, &calib, &SensorModel::ideal(), 40);
+    for v in (200..280).step_by(20) {
+        let row = &ideal.ir_labels[v * WIDTH..(v + 1) * WIDTH];
+        let n = row.iter().filter(|&&l| l == ATTACHED).count() as f64;
+        assert!(
+            (n - width).abs() <= 1.5,
+            "row {v}: {n} px of shadow, {width:.1} by hand"
+        );
+    }
+    let (_, with_rgb) = with_and_without_colour(&scene, 40..43, false, |_| {});
+    at_least(
+        &with_rgb,
+        Some(ATTACHED),
+        0.8,
+        "IR attached of a black box whose shadow starts at a band edge",
+    );
+}
+
+#[test]
 fn second_black_box_beside_the_first_gets_its_shadow_past_the_first() {
     // Two black boxes before the pale wall at 3 m: the first's front face at 1 m over IR columns
     // 200–300, the second's at 1.6 m from column 308. The first's shadow is f·b·(1/1 − 1/3) =
