@@ -2113,18 +2113,16 @@ impl ColourSplit {
         // complex IR attached F1 +0.0091 summed, any-shadow recall +0.0151, precision −0.0003,
         // RGB alignment +0.0021, no suite lower than −0.0003; this project's suites +0.0008,
         // precision −0.0002; the real frame unchanged.)
-        let from_right = c.closed
-            && !c.behind
-            && match (probe(c.a), probe(c.b + 1)) {
-                (Some(first), Some(right)) => {
-                    let step = self.dimmed(COLOUR_STEP, beside);
-                    hue_dist(first, beside) >= step
-                        && hue_dist(first, right) < step
-                        && hue_dist(right, beside) > self.dimmed(SIDES_AGREE, beside)
-                }
-                _ => false,
-            };
-        let beside = if from_right { probe(c.b + 1)? } else { beside };
+        let first = probe(c.a)?;
+        let right = if c.closed { probe(c.b + 1) } else { None };
+        let from_right = !c.behind
+            && right.is_some_and(|right| {
+                let step = self.dimmed(COLOUR_STEP, beside);
+                hue_dist(first, beside) >= step
+                    && hue_dist(first, right) < step
+                    && hue_dist(right, beside) > self.dimmed(SIDES_AGREE, beside)
+            });
+        let beside = if from_right { right? } else { beside };
         let step = self.dimmed(COLOUR_STEP, beside);
         // The wall whose texture may excuse a colour that strays from the probe beside the hole:
         // left of it, or right of it behind a nearer surface. Where a farther surface bounds the
@@ -2153,7 +2151,7 @@ impl ColourSplit {
         // The probe in the hole's middle, read at most once for the two tests below.
         let mut middle = None;
         let mut middle_of = || *middle.get_or_insert_with(|| probe((c.a + c.b) / 2));
-        let d_first = hue_dist(probe(c.a)?, beside);
+        let d_first = hue_dist(first, beside);
         // Only beside an occluder of far greater contrast (the column step rises for no other),
         // which the probe in the hole's middle shows.
         let first_ok = d_first < step
@@ -2165,7 +2163,7 @@ impl ColourSplit {
         }
         if !first_ok
             || (c.closed
-                && (hue_dist(probe(c.b + 1)?, beside) > self.dimmed(SIDES_AGREE, beside)
+                && (hue_dist(right?, beside) > self.dimmed(SIDES_AGREE, beside)
                     || (hue_dist(middle_of()?, beside) < step
                         && hue_dist(probe((c.a + 3 * c.b) / 4)?, beside) < step)))
         {
