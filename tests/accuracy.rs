@@ -1084,23 +1084,8 @@ fn black_box_before_a_banded_wall_and_a_farther_one_keeps_its_attached_shadow() 
             blue
         }
     });
-    let (x1, x2) = (x_at(220.0, 1.0), x_at(340.0, 1.0));
-    push_black_box(
-        &mut scene,
-        "box",
-        [(x1 + x2) / 2.0, 0.0, 1.05],
-        [(x2 - x1) / 2.0, 0.19, 0.05],
-    );
-    let width = calib.fb() * (1.0 - 1.0 / 2.5);
-    let ideal = render_frame(&scene, &calib, &SensorModel::ideal(), 40);
-    for v in (200..280).step_by(20) {
-        let row = &ideal.ir_labels[v * WIDTH..(v + 1) * WIDTH];
-        let n = row.iter().filter(|&&l| l == ATTACHED).count() as f64;
-        assert!(
-            (n - width).abs() <= 1.5,
-            "row {v}: {n} px of shadow, {width:.1} by hand"
-        );
-    }
+    push_black_box_over(&mut scene, (220.0, 340.0), 1.0, 0.19);
+    assert_ideal_shadow_width(&scene, calib.fb() * (1.0 - 1.0 / 2.5));
     let (depth_only, with_rgb) = with_and_without_colour(&scene, 40..42, false, |_| {});
     assert!(depth_only.class(ATTACHED).recall.unwrap_or(0.0) < 0.05);
     at_least(
@@ -1131,23 +1116,8 @@ fn black_box_whose_shadow_starts_at_a_band_edge_is_read_against_the_wall_right_o
             cream
         }
     });
-    let (x1, x2) = (x_at(200.0, 1.0), x_at(300.0, 1.0));
-    push_black_box(
-        &mut scene,
-        "box",
-        [(x1 + x2) / 2.0, 0.0, 1.05],
-        [(x2 - x1) / 2.0, 0.19, 0.05],
-    );
-    let width = calib.fb() * (1.0 - 1.0 / 3.0);
-    let ideal = render_frame(&scene, &calib, &SensorModel::ideal(), 40);
-    for v in (200..280).step_by(20) {
-        let row = &ideal.ir_labels[v * WIDTH..(v + 1) * WIDTH];
-        let n = row.iter().filter(|&&l| l == ATTACHED).count() as f64;
-        assert!(
-            (n - width).abs() <= 1.5,
-            "row {v}: {n} px of shadow, {width:.1} by hand"
-        );
-    }
+    push_black_box_over(&mut scene, (200.0, 300.0), 1.0, 0.19);
+    assert_ideal_shadow_width(&scene, calib.fb() * (1.0 - 1.0 / 3.0));
     let (_, with_rgb) = with_and_without_colour(&scene, 40..43, false, |_| {});
     at_least(
         &with_rgb,
@@ -1173,20 +1143,9 @@ fn second_black_box_beside_the_first_gets_its_shadow_past_the_first() {
     let (fx, cx) = (calib.depth.fx, calib.depth.cx);
     let x_at = |u: f64, z: f64| (u - cx) / fx * z;
     let mut scene = before_a_pale_wall("two black boxes side by side");
-    let (x1, x2) = (x_at(200.0, 1.0), x_at(300.0, 1.0));
-    push_black_box(
-        &mut scene,
-        "box",
-        [(x1 + x2) / 2.0, 0.0, 1.05],
-        [(x2 - x1) / 2.0, 0.3, 0.05],
-    );
-    let (x3, x4) = (x_at(308.0, 1.6), x_at(408.0, 1.6));
-    push_black_box(
-        &mut scene,
-        "box",
-        [(x3 + x4) / 2.0, 0.0, 1.65],
-        [(x4 - x3) / 2.0, 0.3, 0.05],
-    );
+    push_black_box_over(&mut scene, (200.0, 300.0), 1.0, 0.3);
+    push_black_box_over(&mut scene, (308.0, 408.0), 1.6, 0.3);
+    let x2 = x_at(300.0, 1.0);
     let second_by_hand = 308.0 - calib.fb() * (1.0 / 1.6 - 1.0 / 3.0);
     assert!((second_by_hand - 295.3).abs() < 0.5, "{second_by_hand}");
     // The first box's right side face shows (it stands left of the optical axis): its
@@ -2702,6 +2661,54 @@ fn push_black_box(scene: &mut Scene, name: &'static str, centre: [f64; 3], half:
     push_box(scene, name, centre, half, umbra::synth::Material::black());
 }
 
+/// A black box 10 cm deep whose front face, `z` m away, spans IR columns `u0..u1` (NYU
+/// defaults), `half_height` m above and below the optical axis.
+fn push_black_box_over(scene: &mut Scene, (u0, u1): (f64, f64), z: f64, half_height: f64) {
+    let calib = Calibration::nyu_default();
+    let x_at = |u: f64| (u - calib.depth.cx) / calib.depth.fx * z;
+    let (x0, x1) = (x_at(u0), x_at(u1));
+    push_black_box(
+        scene,
+        "box",
+        [(x0 + x1) / 2.0, 0.0, z + 0.05],
+        [(x1 - x0) / 2.0, half_height, 0.05],
+    );
+}
+
+/// Checks that the ideal sensor's rows 200–280 (every 20th) of `scene` hold `width` px of
+/// attached shadow, within 1.5: the simulator agrees with the width computed by hand.
+fn assert_ideal_shadow_width(scene: &Scene, width: f64) {
+    let ideal = render_frame(
+        scene,
+        &Calibration::nyu_default(),
+        &SensorModel::ideal(),
+        40,
+    );
+    for v in (200..280).step_by(20) {
+        let row = &ideal.ir_labels[v * WIDTH..(v + 1) * WIDTH];
+        let n = row.iter().filter(|&&l| l == ATTACHED).count() as f64;
+        assert!(
+            (n - width).abs() <= 1.5,
+            "row {v}: {n} px of shadow, {width:.1} by hand"
+        );
+    }
+}
+
+/// The IR columns the simulator labels attached in row 240 of `frame`.
+fn attached_in_row_240(frame: &SynthFrame) -> Vec<usize> {
+    let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
+    (0..WIDTH).filter(|&u| row[u] == ATTACHED).collect()
+}
+
+/// The Kinect sensor with the RGB camera's noise at σ = 12 a channel (a dim room, the gain
+/// turned up).
+fn noisy_colour() -> SensorModel {
+    SensorModel {
+        rgb_noise_sigma: 12.0,
+        ..SensorModel::kinect()
+    }
+}
+
 /// A scene of `description` holding only a pale matte wall at 3 m, for the objects to stand
 /// before.
 fn before_a_pale_wall(description: &str) -> Scene {
@@ -2761,10 +2768,21 @@ fn with_and_without_colour(
     rgb: bool,
     truth: impl Fn(&SynthFrame),
 ) -> (Confusion, Confusion) {
+    with_and_without_colour_by(scene, &SensorModel::kinect(), seeds, rgb, truth)
+}
+
+/// [`with_and_without_colour`] with the sensor `sensor`.
+fn with_and_without_colour_by(
+    scene: &Scene,
+    sensor: &SensorModel,
+    seeds: std::ops::Range<u64>,
+    rgb: bool,
+    truth: impl Fn(&SynthFrame),
+) -> (Confusion, Confusion) {
     let calib = Calibration::nyu_default();
     let (mut depth_only, mut with_rgb) = (Confusion::default(), Confusion::default());
     for seed in seeds {
-        let frame = render_frame(scene, &calib, &SensorModel::kinect(), seed);
+        let frame = render_frame(scene, &calib, sensor, seed);
         truth(&frame);
         let (a, b) = (classify(&calib, &frame), classify_rgb(&calib, &frame));
         if rgb {
@@ -3905,30 +3923,20 @@ fn black_rod_before_a_wall_in_a_noisy_colour_image_keeps_its_attached_shadow() {
     // own, and a row whose neighbours both failed lost its shadow while it had to agree with
     // one. Measured (seeds 70–72): IR attached F1 0.936 → 0.966 (at σ = 16, 0.476 → 0.690).
     let (x_rod, z_rod, z_wall) = (-0.2, 1.5, 2.5);
-    let mut scene = Scene::new("black rod before a wall in a noisy colour image");
-    scene.push(
-        "wall",
-        wall(z_wall),
-        umbra::synth::Material::matte([0.3, 0.28, 0.25]),
+    let mut scene = before_a_wall(
+        "black rod before a wall in a noisy colour image",
+        z_wall,
+        [0.3, 0.28, 0.25],
     );
     let rod = Scene::rod_before_wall(x_rod, z_rod, 0.02, z_wall).objects[1].clone();
     scene.push("rod", rod.shape, umbra::synth::Material::black());
-    let calib = Calibration::nyu_default();
-    let sensor = SensorModel {
-        rgb_noise_sigma: 12.0,
-        ..SensorModel::kinect()
-    };
-    let mut with_rgb = Confusion::default();
-    for seed in 70..73 {
-        let frame = render_frame(&scene, &calib, &sensor, seed);
-        let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
-        let shadow = row.iter().filter(|&&l| l == ATTACHED).count();
+    let (_, with_rgb) = with_and_without_colour_by(&scene, &noisy_colour(), 70..73, false, |f| {
+        let shadow = attached_in_row_240(f).len();
         assert!(
             (10..=15).contains(&shadow),
-            "the simulator's shadow: {shadow} px (seed {seed})"
+            "the simulator's shadow: {shadow} px"
         );
-        with_rgb.add(&frame.ir_labels, &classify_rgb(&calib, &frame).ir_labels);
-    }
+    });
     at_least(
         &with_rgb,
         Some(ATTACHED),
@@ -3943,36 +3951,19 @@ fn black_panel_past_the_right_border_in_a_noisy_colour_image_keeps_its_attached_
     // past the right border: its hole, shadow f·b·(1/1.5 − 1/2.5) = 11.7 px then panel, runs
     // into the border, an open hole. Its rows fail now and then as the rod's do. Measured
     // (seeds 70–72): IR attached F1 0.897 → 0.928 (at σ = 16, 0.721 → 0.815).
-    let calib = Calibration::nyu_default();
-    let x_at = |u: f64, z: f64| (u - calib.depth.cx) / calib.depth.fx * z;
-    let mut scene = Scene::new("black panel past the right border in a noisy colour image");
-    scene.push(
-        "wall",
-        wall(2.5),
-        umbra::synth::Material::matte([0.3, 0.28, 0.25]),
+    let mut scene = before_a_wall(
+        "black panel past the right border in a noisy colour image",
+        2.5,
+        [0.3, 0.28, 0.25],
     );
-    let x1 = x_at(500.0, 1.5);
-    push_black_box(
-        &mut scene,
-        "panel",
-        [x1 + 0.5, 0.0, 1.55],
-        [0.5, 0.25, 0.05],
-    );
-    let sensor = SensorModel {
-        rgb_noise_sigma: 12.0,
-        ..SensorModel::kinect()
-    };
-    let mut with_rgb = Confusion::default();
-    for seed in 70..73 {
-        let frame = render_frame(&scene, &calib, &sensor, seed);
-        let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
-        let shadow: Vec<usize> = (0..WIDTH).filter(|&u| row[u] == ATTACHED).collect();
+    push_black_box_over(&mut scene, (500.0, 900.0), 1.5, 0.25);
+    let (_, with_rgb) = with_and_without_colour_by(&scene, &noisy_colour(), 70..73, false, |f| {
+        let shadow = attached_in_row_240(f);
         assert!(
             (10..=15).contains(&shadow.len()) && shadow.last() < Some(&500),
-            "the simulator's shadow: {shadow:?} (seed {seed})"
+            "the simulator's shadow: {shadow:?}"
         );
-        with_rgb.add(&frame.ir_labels, &classify_rgb(&calib, &frame).ir_labels);
-    }
+    });
     at_least(
         &with_rgb,
         Some(ATTACHED),
@@ -3992,18 +3983,13 @@ fn black_rod_a_few_pixels_wide_keeps_its_attached_shadow_in_its_closed_hole() {
     let mut scene = before_a_pale_wall("a black rod a few pixels wide");
     let rod = Scene::rod_before_wall(x_rod, z_rod, 0.012, z_wall).objects[1].clone();
     scene.push("rod", rod.shape, umbra::synth::Material::black());
-    let calib = Calibration::nyu_default();
-    let mut with_rgb = Confusion::default();
-    for seed in 70..73 {
-        let frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
-        let row = &frame.ir_labels[240 * WIDTH..241 * WIDTH];
-        let shadow = row.iter().filter(|&&l| l == ATTACHED).count();
+    let (_, with_rgb) = with_and_without_colour(&scene, 70..73, false, |f| {
+        let shadow = attached_in_row_240(f).len();
         assert!(
             (6..=10).contains(&shadow),
-            "the simulator's shadow: {shadow} px (seed {seed})"
+            "the simulator's shadow: {shadow} px"
         );
-        with_rgb.add(&frame.ir_labels, &classify_rgb(&calib, &frame).ir_labels);
-    }
+    });
     at_least(
         &with_rgb,
         Some(ATTACHED),
