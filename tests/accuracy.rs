@@ -894,6 +894,96 @@ fn attached_shadow_of_a_panel_beyond_the_right_border_in_every_row_is_no_dead_ba
     );
 }
 
+/// A red box 0.5 m tall whose front face, 1 m away, runs from x = 0.1 m to `x_right`, before a
+/// pale wall at 3 m: the RGB camera sees the wall past its right edge.
+fn box_off_the_right_border(x_right: f64) -> Scene {
+    let mut scene = before_a_pale_wall("red box off the right border");
+    push_box(
+        &mut scene,
+        "box",
+        [(0.1 + x_right) / 2.0, 0.0, 1.1],
+        [(x_right - 0.1) / 2.0, 0.25, 0.1],
+        umbra::synth::Material::matte([0.7, 0.2, 0.15]),
+    );
+    scene
+}
+
+/// By hand, RGB columns `[from, to)` (pixel centres) of the wall that the box of
+/// [`box_off_the_right_border`] hides from the IR camera and the RGB camera sees, when the IR
+/// camera's view ends at IR column `edge` (639.5, or 631.5 before a dead band): from the box's
+/// edge at 1 m, `f_rgb·(x_right − 0.025)`, to the view's end on the wall at 3 m. Right of it the
+/// RGB camera sees wall outside the IR camera's view (OTHER).
+fn border_strip_by_hand(calib: &Calibration, x_right: f64, edge: f64) -> (usize, usize) {
+    let (cx, fx) = (calib.rgb.cx, calib.rgb.fx);
+    let from = cx + fx * (x_right - 0.025);
+    let x_wall = (edge - calib.depth.cx) / calib.depth.fx * 3.0;
+    let to = cx + fx * (x_wall - 0.025) / 3.0;
+    (from.ceil() as usize, to.ceil() as usize)
+}
+
+/// Over RGB rows 150–350 (the box's middle) of `scene` on the Kinect sensor model (seeds 50 and
+/// 51), with the IR view's last `band` columns blanked as a dead band: the alignment pixels
+/// found in the hand-computed strip `[from, to)` and those found right of the box's edge outside
+/// it (a pixel of slack either side), with the strip's size.
+fn border_strip_found(scene: &Scene, band: usize, (from, to): (usize, usize)) -> [usize; 3] {
+    let calib = Calibration::nyu_default();
+    let mut found = [0; 3];
+    for seed in 50..52 {
+        let mut frame = render_frame(scene, &calib, &SensorModel::kinect(), seed);
+        for row in frame.raw.chunks_exact_mut(WIDTH) {
+            row[WIDTH - band..].fill(NO_DEPTH);
+        }
+        let out = classify_rgb(&calib, &frame);
+        for v in 150..350 {
+            let row = &out.rgb_labels[v * WIDTH..(v + 1) * WIDTH];
+            for (u, &l) in row.iter().enumerate().skip(from - 5) {
+                let strip = (from..to).contains(&u);
+                found[0] += usize::from(strip && l == ALIGNMENT);
+                found[1] += usize::from(!(from - 1..=to).contains(&u) && l == ALIGNMENT);
+                found[2] += usize::from(strip);
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn box_running_off_the_right_border_leaves_its_alignment_strip_up_to_the_ir_view() {
+    // The box's edge at x = 0.565 m lies at IR column 313.04 + 582.62·0.565 = 642.2, just past
+    // the border, and at RGB column 325.58 + 518.86·0.540 = 605.8. The IR camera's view ends at
+    // column 639.5, on the wall 3·(639.5 − 313.04)/582.62 = 1.681 m to the side, which the RGB
+    // camera sees at 325.58 + 518.86·(1.681 − 0.025)/3 = 612.0. Between, 6 columns of wall the
+    // box hides from the IR camera: an alignment shadow, with no farther IR pixel after the box
+    // to open it. Measured: 0 of 2 400 found before (all OTHER), 2 400 after, none outside.
+    let calib = Calibration::nyu_default();
+    let strip = border_strip_by_hand(&calib, 0.565, 639.5);
+    assert_eq!(strip, (606, 612));
+    let [hit, outside, truth] = border_strip_found(&box_off_the_right_border(0.565), 0, strip);
+    assert!(
+        10 * hit >= 9 * truth,
+        "{hit} of {truth} strip pixels ALIGNMENT"
+    );
+    assert_eq!(outside, 0, "alignment pixels outside the strip");
+}
+
+#[test]
+fn box_running_into_a_dead_band_leaves_its_alignment_strip_up_to_the_band() {
+    // A real sensor measures nothing in its last 8 columns. The box's edge at x = 0.551 m lies
+    // at IR column 634.1, inside the band, and at RGB column 598.7; the IR camera's measured view
+    // ends at column 631.5, on the wall at x = 1.640 m, RGB column 604.9. Between, the wall the
+    // box hides: 6 columns of alignment shadow (the wall the band covers past it is OTHER).
+    // Measured: 0 of 2 400 before, 2 240 after, none outside.
+    let calib = Calibration::nyu_default();
+    let strip = border_strip_by_hand(&calib, 0.551, 631.5);
+    assert_eq!(strip, (599, 605));
+    let [hit, outside, truth] = border_strip_found(&box_off_the_right_border(0.551), 8, strip);
+    assert!(
+        10 * hit >= 9 * truth,
+        "{hit} of {truth} strip pixels ALIGNMENT"
+    );
+    assert_eq!(outside, 0, "alignment pixels outside the strip");
+}
+
 /// Asserts of `scene`, whose attached shadow depth alone cannot find: the ideal sensor's shadow
 /// columns in every 40th row of its middle (`by_hand(v, columns)` checks them against the
 /// hand-computed geometry), depth alone recalling under 5 % of it on the Kinect sensor model,
