@@ -61,6 +61,7 @@ mod second;
 mod silhouette;
 mod tail;
 mod thin_rod;
+mod twin;
 mod unlike;
 
 /// Narrowest merged hole considered (pixels): a shadow and an occluder of 5 px each. Narrower
@@ -552,6 +553,7 @@ impl ColourSplit {
                         self.on_a_dark_surface(raw, rgb, labels, v, (a, b));
                     } else if labels[i] == DETACHED
                         && !self.wider_to_the_projector(raw, rgb, labels, v, (a, b))
+                        && !self.detached_like_its_occluder(raw, rgb, labels, v, (a, b))
                     {
                         self.detached_on_a_dark_surface(raw, rgb, labels, v, (a, b));
                     }
