@@ -14,8 +14,7 @@
 //! projection pass per row, then one z-test per source pixel; depth edges are rare, so the gap
 //! handling costs nothing on most pixels.
 
-use super::depthless::DEAD_BAND;
-use super::depthless::{dimmed, hue_dist};
+use super::depthless::{dimmed, hue_dist, DEAD_BAND};
 use crate::calib::Calibration;
 use crate::labels::{ALIGNMENT, ATTACHED, HEIGHT, NO_DEPTH, OTHER, PIXELS, VALID, WIDTH};
 

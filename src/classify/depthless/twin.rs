@@ -45,18 +45,17 @@ impl ColourSplit {
         if !labels[row + a..row + b].iter().all(|&l| l == DETACHED) {
             return false;
         }
-        // The lit gap: the background on from Sb, up to a hole (a measured occluder would
-        // end it with a step nearer).
-        let bg = r[b];
         // Sa and Sb on one surface, the background: Sb the lit gap, not a nearer occluder the
         // hole touches (its lit gap swallowed by the widening), and Sa no nearer object whose
-        // colour is no background's.
-        // (Disparity is linear in raw: the test runs on raw values.)
+        // colour is no background's. (Disparity is linear in raw: the test runs on raw values.)
+        let bg = r[b];
         let tol = (SAME_SURFACE / self.k) as u16;
         let on_bg = |x: u16| x != NO_DEPTH && x.abs_diff(bg) <= tol;
         if !on_bg(r[a - 1]) {
             return false;
         }
+        // The lit gap runs on the background from Sb up to the next hole (a measured occluder
+        // would end it with a step nearer).
         let gap = r[b..].iter().take_while(|&&x| on_bg(x)).count();
         let o0 = b + gap;
         if gap == 0 || gap > WIDEST_GAP || o0 >= WIDTH || r[o0] != NO_DEPTH {
@@ -72,13 +71,14 @@ impl ColourSplit {
         let Some(hole) = self.mean_colour(rgb, v, third(a, b - a), bg) else {
             return false;
         };
-        let unlike = |p: Option<[i32; 3]>| {
-            p.is_some_and(|p| hue_dist(hole, p) >= self.dimmed(COLOUR_STEP, p))
-        };
-        let twin = || self.mean_colour(rgb, v, third(o0, occ), bg);
-        if !unlike(self.mean_colour(rgb, v, a - SIDE..a, r[a - 1]))
-            || !unlike(self.mean_colour(rgb, v, b..o0, bg))
-            || twin().is_none_or(|p| unlike(Some(p)))
+        let unlike = |p: [i32; 3]| hue_dist(hole, p) >= self.dimmed(COLOUR_STEP, p);
+        if !self
+            .mean_colour(rgb, v, a - SIDE..a, r[a - 1])
+            .is_some_and(unlike)
+            || !self.mean_colour(rgb, v, b..o0, bg).is_some_and(unlike)
+            || self
+                .mean_colour(rgb, v, third(o0, occ), bg)
+                .is_none_or(unlike)
         {
             return false;
         }
