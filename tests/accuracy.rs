@@ -1188,22 +1188,13 @@ fn black_box_before_a_banded_wall_and_a_farther_one_keeps_its_attached_shadow() 
     // is one plane, so its texture is read. Measured (seeds 40–41): IR attached F1 0.002 →
     // 0.983.
     let calib = Calibration::nyu_default();
-    let x_at = |u: f64, z: f64| (u - calib.depth.cx) / calib.depth.fx * z;
     let mut scene = Scene::new("black box before a banded wall and a farther one");
     scene.push(
         "far wall",
         wall(3.5),
         umbra::synth::Material::matte([0.8, 0.8, 0.8]),
     );
-    let band = x_at(4.0, 2.5) - x_at(0.0, 2.5);
-    let (cream, blue) = ([0.8, 0.78, 0.7], [0.35, 0.5, 0.7]);
-    push_bands(&mut scene, (x_at(300.0, 2.5), band, 2.5), -90..0, |k| {
-        if k % 2 == 0 {
-            cream
-        } else {
-            blue
-        }
-    });
+    push_cream_and_blue_bands(&mut scene, &calib, (300.0, 4.0, 2.5), -90..0, true);
     push_black_box_over(&mut scene, (220.0, 340.0), 1.0, 0.19);
     assert_ideal_shadow_width(&scene, calib.fb() * (1.0 - 1.0 / 2.5));
     let (depth_only, with_rgb) = with_and_without_colour(&scene, 40..42, false, |_| {});
@@ -1225,17 +1216,8 @@ fn black_box_whose_shadow_starts_at_a_band_edge_is_read_against_the_wall_right_o
     // in it blue: the hole's first pixel was unlike the wall beside it, and the hole was left
     // OTHER. Measured (seeds 40–42): IR attached F1 0.000 → 0.863 (recall 0.76, precision 1).
     let calib = Calibration::nyu_default();
-    let x_at = |u: f64, z: f64| (u - calib.depth.cx) / calib.depth.fx * z;
     let mut scene = Scene::new("black box whose shadow starts at a band edge");
-    let (cream, blue) = ([0.8, 0.78, 0.7], [0.35, 0.5, 0.7]);
-    let band = x_at(140.0, 3.0) - x_at(0.0, 3.0);
-    push_bands(&mut scene, (x_at(170.0, 3.0), band, 3.0), -20..20, |k| {
-        if k % 2 == 0 {
-            blue
-        } else {
-            cream
-        }
-    });
+    push_cream_and_blue_bands(&mut scene, &calib, (170.0, 140.0, 3.0), -20..20, false);
     push_black_box_over(&mut scene, (200.0, 300.0), 1.0, 0.19);
     assert_ideal_shadow_width(&scene, calib.fb() * (1.0 - 1.0 / 3.0));
     let (_, with_rgb) = with_and_without_colour(&scene, 40..43, false, |_| {});
@@ -2877,6 +2859,31 @@ fn push_bands(
             umbra::synth::Material::matte(colour(k)),
         );
     }
+}
+
+/// [`push_bands`] for a wall at `z` in bands `band_px` IR columns wide, band 0 starting at IR
+/// column `edge_u`, cream and blue by turns (the even bands cream where `cream_even`, else blue).
+fn push_cream_and_blue_bands(
+    scene: &mut Scene,
+    calib: &Calibration,
+    (edge_u, band_px, z): (f64, f64, f64),
+    bands: std::ops::Range<i32>,
+    cream_even: bool,
+) {
+    let x_at = |u: f64| (u - calib.depth.cx) / calib.depth.fx * z;
+    let (cream, blue) = ([0.8, 0.78, 0.7], [0.35, 0.5, 0.7]);
+    push_bands(
+        scene,
+        (x_at(edge_u), x_at(band_px) - x_at(0.0), z),
+        bands,
+        |k| {
+            if (k % 2 == 0) == cream_even {
+                cream
+            } else {
+                blue
+            }
+        },
+    );
 }
 
 /// `scene` rendered with the noisy Kinect sensor for each seed (each frame first handed to
