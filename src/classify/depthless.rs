@@ -56,6 +56,7 @@ mod limb;
 mod offimage;
 mod pairs;
 mod patch;
+mod rim;
 mod rod_in_shadow;
 mod second;
 mod silhouette;
@@ -737,7 +738,16 @@ impl ColourSplit {
                 // (Beside a patch the hole's right end is Sb's shadow, no occluder's edge.)
                 if split.is_none()
                     && !patched
-                    && self.limb_of_near_edge(raw, rgb, labels, filled, v, (a, b))
+                    && (self.limb_of_near_edge(raw, rgb, labels, filled, v, (a, b))
+                        || self.rim_of_near_object(
+                            raw,
+                            rgb,
+                            labels,
+                            filled,
+                            v,
+                            (a, b),
+                            split_range,
+                        ))
                 {
                     u = mask.next_hole(b.max(u + 1));
                     continue;
