@@ -1,4 +1,4 @@
-//! A narrow hole at a near object's right edge: the object's own limb, not the background's.
+//! A hole at a near object's right edge: the object's own limb or rim, not the background's.
 //!
 //! An object's silhouette, where its surface turns away from the camera (a cylinder's limb, a box
 //! face seen edge-on), returns no depth, and the sensor's window widens that hole by a pixel or
@@ -10,20 +10,39 @@
 //! the near object's edge (the strip the IR camera cannot see lies just there), and something
 //! else (a black object half hidden behind the near one, a dark patch) when the hole lies on a
 //! farther surface.
+//!
+//! A glossy object's rim is wider than that strip (up to [`MAX_RIM`] pixels), and read at the
+//! background's depth its columns past the strip show the object. Read at the object's own
+//! depth, every column of it shows the object (by hue alone where the rim, turned from the
+//! light, is darker than the middle): the hole is then filled at that depth, and the strip opens
+//! right of it. (The seventh simulator, whose glossy cylinders and figures return depth only
+//! along their middles: RGB alignment F1 +0.016 complex, +0.014 simple, summed over six suites;
+//! two fresh suites +0.005 each; this project's suites −0.0009 summed (a detached shadow right of
+//! a box whose colour runs on over it); 10 px of the real frame's RGB view, 7 of them alignment
+//! now.)
 
-use super::{hue_dist, ColourSplit, COLOUR_STEP, SIDE};
+use super::{chroma_off, hue_dist, ColourSplit, COLOUR_STEP, SIDE};
 use crate::labels::{NO_DEPTH, OTHER, WIDTH};
 
 /// Widest hole read as an edge's: a limb's pixel or two and the sensor's widening.
 const MAX_LIMB: usize = 8;
+/// Widest hole read as a glossy object's rim (pixels), the whole of it showing the object at
+/// its depth. (Holes from [`MIN_HOLE`](super::MIN_HOLE) on are read by the colour split's
+/// right-edge reading first.)
+const MAX_RIM: usize = 24;
+/// Chromaticity difference (thousandths, summed over R, G, B) within which a rim's column has
+/// the object's hue, however shaded.
+const SAME_HUE: i32 = 40;
+/// Brightness (R + G + B) under which a colour's chromaticity is the camera's noise.
+const LIT: i32 = 90;
 /// Least disparity (pixels) between the near side and the background: a third of it is the
 /// alignment strip the RGB camera sees, a pixel at least.
 const MIN_EDGE: f64 = 3.0;
 
 impl ColourSplit {
     /// Fills the OTHER hole `[a, b)` of row `v` with the depth of its left side, a nearer
-    /// surface, where the RGB camera sees the background over it (see the module's docs); returns
-    /// whether it did.
+    /// surface, where the RGB camera sees the background over it, or the near side over all of a
+    /// wider rim (see the module's docs); returns whether it did.
     pub(super) fn limb_of_near_edge(
         &self,
         raw: &[u16],
@@ -34,7 +53,7 @@ impl ColourSplit {
         (a, b): (usize, usize),
     ) -> bool {
         let row = &raw[v * WIDTH..(v + 1) * WIDTH];
-        if a < SIDE || b + SIDE > WIDTH || b - a > MAX_LIMB {
+        if a < SIDE || b + SIDE > WIDTH || b - a > MAX_RIM {
             return false;
         }
         let (sa, sb) = (row[a - 1], row[b]);
@@ -76,6 +95,28 @@ impl ColourSplit {
         let step = self.dimmed(COLOUR_STEP, background);
         if hue_dist(near, background) < step {
             return false;
+        }
+        if b - a > MAX_LIMB {
+            // A glossy object's rim: read at the near side's depth, every column shows the near
+            // side; a rim turned from the light is darker than the middle, by hue alone where
+            // the hue tells the object from the background.
+            let near_step = self.dimmed(COLOUR_STEP, near);
+            let lit = |p: [i32; 3]| p.iter().sum::<i32>() >= LIT;
+            let hued = lit(near) && lit(background) && chroma_off(near, background) >= 2 * SAME_HUE;
+            let rim = (a..b - 1).all(|u| {
+                self.probe(rgb, u, v, sa).is_some_and(|p| {
+                    let (dn, db) = (hue_dist(p, near), hue_dist(p, background));
+                    (dn < near_step && 2 * dn <= db)
+                        || (hued && lit(p) && {
+                            let to_near = chroma_off(p, near);
+                            to_near <= SAME_HUE && 2 * to_near <= chroma_off(p, background)
+                        })
+                })
+            });
+            if rim {
+                filled[v * WIDTH + a..v * WIDTH + b].fill(sa);
+            }
+            return rim;
         }
         // The hole's first pixel, read at the background's depth, may take in the near edge's
         // blend; the others must show the background.
