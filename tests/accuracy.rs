@@ -5990,14 +5990,7 @@ fn glossy_pole_rim_in_its_shadows_hole_before_a_banded_wall_leaves_the_shadow_at
     let calib = Calibration::nyu_default();
     let w = calib.fb() * (1.0 / 1.2 - 1.0 / 2.5);
     assert!((w - 19.0).abs() < 0.5, "eq. (3) gives {w:.2} px");
-    let mut scene = Scene::new("glossy pole with a rim before a banded wall");
-    push_cream_and_blue_bands(&mut scene, &calib, (200.0, 4.0, 2.5), 0..60, true);
-    let x = (380.0 - calib.depth.cx) / calib.depth.fx * 1.2;
-    scene.push(
-        "pole",
-        vertical_rod(x, 1.2, 0.05),
-        umbra::synth::Material::matte([0.1, 0.3, 0.15]),
-    );
+    let scene = green_pole_before_banded_wall(&calib, 200.0..440.0);
     const RIM: usize = 14;
     let near = calib.raw_from_depth(1.6) as u16;
     let (mut shadow, mut shadow_hit, mut rim, mut rim_hit) = (0, 0, 0, 0);
@@ -6044,14 +6037,7 @@ fn glossy_pole_rim_right_of_its_middle_keeps_the_alignment_strip_past_it() {
     let calib = Calibration::nyu_default();
     let strip = calib.rgb.fx * 0.025 * (1.0 / 1.2 - 1.0 / 2.5);
     assert!((strip - 5.6).abs() < 0.1, "the strip is {strip:.2} px");
-    let mut scene = Scene::new("glossy pole with a right rim before a banded wall");
-    push_cream_and_blue_bands(&mut scene, &calib, (300.0, 4.0, 2.5), 0..80, true);
-    let x = (380.0 - calib.depth.cx) / calib.depth.fx * 1.2;
-    scene.push(
-        "pole",
-        vertical_rod(x, 1.2, 0.05),
-        umbra::synth::Material::matte([0.1, 0.3, 0.15]),
-    );
+    let scene = green_pole_before_banded_wall(&calib, 300.0..620.0);
     const RIM: usize = 9;
     let near = calib.raw_from_depth(1.6) as u16;
     let (mut total, mut found) = (0, 0);
@@ -6077,6 +6063,22 @@ fn glossy_pole_rim_right_of_its_middle_keeps_the_alignment_strip_past_it() {
     }
     let share = found as f64 / total as f64;
     assert!(share >= 0.85, "{share:.3} of the strip's pixels alignment");
+}
+
+/// A dark green pole (radius 5 cm) at 1.2 m over IR column 380 before a wall at 2.5 m papered
+/// in cream and blue bands 4 px wide over the IR columns `cols`: the scene of the glossy rim
+/// tests, whose rims are blanked in the frames rendered from it.
+fn green_pole_before_banded_wall(calib: &Calibration, cols: std::ops::Range<f64>) -> Scene {
+    let mut scene = Scene::new("pole before a banded wall");
+    let bands = ((cols.end - cols.start) / 4.0) as i32;
+    push_cream_and_blue_bands(&mut scene, calib, (cols.start, 4.0, 2.5), 0..bands, true);
+    let x = (380.0 - calib.depth.cx) / calib.depth.fx * 1.2;
+    scene.push(
+        "pole",
+        vertical_rod(x, 1.2, 0.05),
+        umbra::synth::Material::matte([0.1, 0.3, 0.15]),
+    );
+    scene
 }
 
 #[test]

@@ -25,7 +25,7 @@ const BLEND: usize = 1;
 const MIN_FACE: usize = 2;
 /// Chromaticity difference (thousandths, summed over R, G, B) within which a pixel has the
 /// occluder's hue.
-const SAME_HUE: i32 = 40;
+pub(super) const SAME_HUE: i32 = 40;
 /// Brightness (R + G + B) under which a colour's chromaticity is the camera's noise.
 const LIT: i32 = 90;
 /// Chromaticity difference (thousandths) from which the occluder's hue alone tells its face,
@@ -44,7 +44,7 @@ const TINTED_HUE: i32 = 2 * SAME_HUE;
 const HUE_RATIO: i32 = 3;
 
 /// Whether colour `p` is bright enough for its chromaticity to tell.
-fn lit(p: [i32; 3]) -> bool {
+pub(super) fn lit(p: [i32; 3]) -> bool {
     p.iter().sum::<i32>() >= LIT
 }
 

@@ -21,6 +21,7 @@
 //! a box whose colour runs on over it); 10 px of the real frame's RGB view, 7 of them alignment
 //! now.)
 
+use super::face::{lit, SAME_HUE};
 use super::{chroma_off, hue_dist, ColourSplit, COLOUR_STEP, SIDE};
 use crate::labels::{NO_DEPTH, OTHER, WIDTH};
 
@@ -30,11 +31,6 @@ const MAX_LIMB: usize = 8;
 /// its depth. (Holes from [`MIN_HOLE`](super::MIN_HOLE) on are read by the colour split's
 /// right-edge reading first.)
 const MAX_RIM: usize = 24;
-/// Chromaticity difference (thousandths, summed over R, G, B) within which a rim's column has
-/// the object's hue, however shaded.
-const SAME_HUE: i32 = 40;
-/// Brightness (R + G + B) under which a colour's chromaticity is the camera's noise.
-const LIT: i32 = 90;
 /// Least disparity (pixels) between the near side and the background: a third of it is the
 /// alignment strip the RGB camera sees, a pixel at least.
 const MIN_EDGE: f64 = 3.0;
@@ -101,7 +97,6 @@ impl ColourSplit {
             // side; a rim turned from the light is darker than the middle, by hue alone where
             // the hue tells the object from the background.
             let near_step = self.dimmed(COLOUR_STEP, near);
-            let lit = |p: [i32; 3]| p.iter().sum::<i32>() >= LIT;
             let hued = lit(near) && lit(background) && chroma_off(near, background) >= 2 * SAME_HUE;
             let rim = (a..b - 1).all(|u| {
                 self.probe(rgb, u, v, sa).is_some_and(|p| {
