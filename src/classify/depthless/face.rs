@@ -25,7 +25,7 @@ const BLEND: usize = 1;
 const MIN_FACE: usize = 2;
 /// Chromaticity difference (thousandths, summed over R, G, B) within which a pixel has the
 /// occluder's hue.
-pub(super) const SAME_HUE: i32 = 40;
+const SAME_HUE: i32 = 40;
 /// Brightness (R + G + B) under which a colour's chromaticity is the camera's noise.
 const LIT: i32 = 90;
 /// Chromaticity difference (thousandths) from which the occluder's hue alone tells its face,
@@ -44,8 +44,54 @@ const TINTED_HUE: i32 = 2 * SAME_HUE;
 const HUE_RATIO: i32 = 3;
 
 /// Whether colour `p` is bright enough for its chromaticity to tell.
-pub(super) fn lit(p: [i32; 3]) -> bool {
+fn lit(p: [i32; 3]) -> bool {
     p.iter().sum::<i32>() >= LIT
+}
+
+/// How a glossy object's rim is told from what lies beside it: by colour, or by hue alone where
+/// the rim, turned from the light, is darker than the object's middle.
+#[derive(Clone, Copy)]
+pub(super) struct RimColours {
+    /// The object's colour (its measured pixels beside the rim).
+    object: [i32; 3],
+    /// The colour of what lies beside it (the wall, the background).
+    other: [i32; 3],
+    /// The colour step within which a colour is the object's.
+    step: u32,
+    /// Whether the hue tells the object from the other: both lit, their chromaticities two
+    /// [`SAME_HUE`] apart.
+    hued: bool,
+}
+
+impl RimColours {
+    /// The colours of an object and what lies beside it, a colour `step` telling them apart.
+    pub(super) fn new(object: [i32; 3], other: [i32; 3], step: u32) -> Self {
+        let hued = lit(object) && lit(other) && chroma_off(object, other) >= 2 * SAME_HUE;
+        RimColours {
+            object,
+            other,
+            step,
+            hued,
+        }
+    }
+
+    /// Whether colour `p` shows the object: within the step of its colour and twice as near it
+    /// as the other's, or (where the hue tells) lit and of its hue, twice as near it in hue.
+    pub(super) fn shows_object(&self, p: [i32; 3]) -> bool {
+        let (d_obj, d_other) = (hue_dist(p, self.object), hue_dist(p, self.other));
+        (d_obj < self.step && 2 * d_obj <= d_other)
+            || (self.hued && lit(p) && {
+                let to_object = chroma_off(p, self.object);
+                to_object <= SAME_HUE && 2 * to_object <= chroma_off(p, self.other)
+            })
+    }
+
+    /// Whether colour `p` is plainly not the object's: two steps off its colour, or (where the
+    /// hue tells) lit and two [`SAME_HUE`] off its hue.
+    pub(super) fn plainly_not_object(&self, p: [i32; 3]) -> bool {
+        hue_dist(p, self.object) >= 2 * self.step
+            || (self.hued && lit(p) && chroma_off(p, self.object) >= 2 * SAME_HUE)
+    }
 }
 
 impl ColourSplit {

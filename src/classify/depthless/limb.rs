@@ -21,8 +21,8 @@
 //! a box whose colour runs on over it); 10 px of the real frame's RGB view, 7 of them alignment
 //! now.)
 
-use super::face::{lit, SAME_HUE};
-use super::{chroma_off, hue_dist, ColourSplit, COLOUR_STEP, SIDE};
+use super::face::RimColours;
+use super::{hue_dist, ColourSplit, COLOUR_STEP, SIDE};
 use crate::labels::{NO_DEPTH, OTHER, WIDTH};
 
 /// Widest hole read as an edge's: a limb's pixel or two and the sensor's widening.
@@ -96,17 +96,10 @@ impl ColourSplit {
             // A glossy object's rim: read at the near side's depth, every column shows the near
             // side; a rim turned from the light is darker than the middle, by hue alone where
             // the hue tells the object from the background.
-            let near_step = self.dimmed(COLOUR_STEP, near);
-            let hued = lit(near) && lit(background) && chroma_off(near, background) >= 2 * SAME_HUE;
+            let colours = RimColours::new(near, background, self.dimmed(COLOUR_STEP, near));
             let rim = (a..b - 1).all(|u| {
-                self.probe(rgb, u, v, sa).is_some_and(|p| {
-                    let (dn, db) = (hue_dist(p, near), hue_dist(p, background));
-                    (dn < near_step && 2 * dn <= db)
-                        || (hued && lit(p) && {
-                            let to_near = chroma_off(p, near);
-                            to_near <= SAME_HUE && 2 * to_near <= chroma_off(p, background)
-                        })
-                })
+                self.probe(rgb, u, v, sa)
+                    .is_some_and(|p| colours.shows_object(p))
             });
             if rim {
                 filled[v * WIDTH + a..v * WIDTH + b].fill(sa);
