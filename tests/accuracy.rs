@@ -6026,6 +6026,71 @@ fn glossy_pole_rim_in_its_shadows_hole_before_a_banded_wall_leaves_the_shadow_at
 }
 
 #[test]
+fn glossy_pole_rim_beside_a_narrow_strip_of_wall_reads_the_walls_slope_on_the_wall_alone() {
+    // The glossy pole of the test above, and left of its shadow a grey panel at 2 m whose right
+    // edge (IR column 328) leaves a strip of the banded wall between it and the shadow (the
+    // pole's silhouette at 380 − f·0.05/1.2 = 355.7, its shadow 19 px left of it): 4 to 9 px
+    // wide with the sensor's widening. Eq. (3) is carried over the shadow with the wall's slope
+    // read left of the hole: read over 10 px, that crossed the panel's edge (f·b·(1/2 − 1/2.5)
+    // = 4.4 px of disparity) and took it for a wall receding at the clamp's 0.5 px per pixel,
+    // which put the shadow's end 9 px past the rim's start, and no rim was read. A step between
+    // neighbours that parts two surfaces is no slope: the wall is read as level there.
+    // (Measured over three frames: 0.001 of the shadow's pixels attached before, 0.98 now; of
+    // the rim, 1.00 OTHER before, 0.97 now.)
+    let calib = Calibration::nyu_default();
+    let mut scene = green_pole_before_banded_wall(&calib, 200.0..440.0);
+    let x_at = |u: f64, z: f64| (u - calib.depth.cx) / calib.depth.fx * z;
+    let (left, right) = (x_at(240.0, 2.0), x_at(328.0, 2.0));
+    push_box(
+        &mut scene,
+        "panel",
+        [(left + right) / 2.0, 0.0, 2.0],
+        [(right - left) / 2.0, 1.0, 0.01],
+        umbra::synth::Material::matte([0.5, 0.5, 0.5]),
+    );
+    const RIM: usize = 14;
+    let near = calib.raw_from_depth(1.6) as u16;
+    let (mut shadow, mut shadow_hit, mut rim, mut rim_hit) = (0, 0, 0, 0);
+    for seed in 80..83 {
+        let mut frame = render_frame(&scene, &calib, &SensorModel::kinect(), seed);
+        let truth = frame.ir_labels.clone();
+        let mut rims = Vec::new();
+        for v in 200..280 {
+            let row = &mut frame.raw[v * WIDTH..(v + 1) * WIDTH];
+            // The pole's first measured column (nothing else in the row is as near).
+            let first = (300..WIDTH)
+                .find(|&u| row[u] < near)
+                .expect("the pole's left edge");
+            row[first..first + RIM].fill(NO_DEPTH);
+            rims.extend((first..first + RIM).map(|u| v * WIDTH + u));
+            // The strip of wall between the panel and the shadow: narrower than the slope's
+            // reach of 10 px, at least the rim reading's 4 px of background.
+            let strip = (300..first)
+                .filter(|&u| truth[v * WIDTH + u] == VALID && row[u] > near)
+                .filter(|&u| calib.depth_m(row[u]).is_some_and(|z| z > 2.3))
+                .count();
+            assert!((4..10).contains(&strip), "row {v}: a strip of {strip} px");
+        }
+        let out = classify_rgb(&calib, &frame);
+        let shade: Vec<usize> = (200..280)
+            .flat_map(|v| (300..400).map(move |u| v * WIDTH + u))
+            .filter(|&i| truth[i] == ATTACHED)
+            .collect();
+        assert!(shade.len() >= 80 * 15, "{} shadow pixels", shade.len());
+        shadow += shade.len();
+        shadow_hit += count_labelled(&out.ir_labels, &shade, ATTACHED);
+        rim += rims.len();
+        rim_hit += count_labelled(&out.ir_labels, &rims, OTHER);
+    }
+    let (shadow, rim) = (
+        shadow_hit as f64 / shadow as f64,
+        rim_hit as f64 / rim as f64,
+    );
+    assert!(shadow >= 0.9, "{shadow:.3} of the shadow's pixels attached");
+    assert!(rim >= 0.9, "{rim:.3} of the rim's pixels OTHER");
+}
+
+#[test]
 fn glossy_pole_rim_right_of_its_middle_keeps_the_alignment_strip_past_it() {
     // A dark green pole (radius 5 cm) at 1.2 m before a banded wall at 2.5 m, its right rim
     // without depth (9 columns blanked, as a glossy pole's are). The RGB camera, 2.5 cm right,

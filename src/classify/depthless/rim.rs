@@ -188,13 +188,17 @@ impl ColourSplit {
 
     /// The background's disparity change per pixel towards the hole at `a` in row `v`, read over
     /// the [`SLOPE_RUN`] pixels left of it (their ends' pairs averaged); 0 where those are not all
-    /// measured, and at most [`MAX_SLOPE`] either way.
+    /// measured or not one surface (each within [`super::SAME_SURFACE`] of the next: read across
+    /// a nearer surface's edge, a narrow strip of background beside the hole took that edge's
+    /// step for its slope; the seventh simulator's complex IR attached F1 +0.0044 on the suite
+    /// with a pole before a patchwork poster beside a panel, nothing else moved), and at most
+    /// [`MAX_SLOPE`] either way.
     fn wall_slope(&self, raw: &[u16], v: usize, a: usize) -> f64 {
         if a < SLOPE_RUN + 1 {
             return 0.0;
         }
         let run = &raw[v * WIDTH + a - SLOPE_RUN..v * WIDTH + a];
-        if run.contains(&NO_DEPTH) {
+        if run.contains(&NO_DEPTH) || run.windows(2).any(|p| !self.on_surface(p[1], p[0])) {
             return 0.0;
         }
         let d = |k: usize| self.disp(run[k]);
