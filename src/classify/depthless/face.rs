@@ -79,11 +79,16 @@ impl RimColours {
     /// as the other's, or (where the hue tells) lit and of its hue, twice as near it in hue.
     pub(super) fn shows_object(&self, p: [i32; 3]) -> bool {
         let (d_obj, d_other) = (hue_dist(p, self.object), hue_dist(p, self.other));
-        (d_obj < self.step && 2 * d_obj <= d_other)
-            || (self.hued && lit(p) && {
-                let to_object = chroma_off(p, self.object);
-                to_object <= SAME_HUE && 2 * to_object <= chroma_off(p, self.other)
-            })
+        (d_obj < self.step && 2 * d_obj <= d_other) || self.of_object_hue(p)
+    }
+
+    /// Whether colour `p` is, where the hue tells the object from the other colour, lit and of
+    /// the object's hue, twice as near it in hue: the object however shaded.
+    pub(super) fn of_object_hue(&self, p: [i32; 3]) -> bool {
+        self.hued && lit(p) && {
+            let to_object = chroma_off(p, self.object);
+            to_object <= SAME_HUE && 2 * to_object <= chroma_off(p, self.other)
+        }
     }
 
     /// Whether colour `p` is plainly not the object's: two steps off its colour, or (where the
