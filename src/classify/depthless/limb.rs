@@ -86,14 +86,20 @@ impl ColourSplit {
         // Read at the near side's depth, the hole's first pixel is that side's colour: its own
         // edge, not a black object beside it (whose strip the colour reading after the warp
         // finds by its contrast). A rim turned from the light is darker than the side's middle
-        // but of its hue, where the hue tells it from the background. (The seventh simulator,
-        // whose glossy poles and figures lose a few pixels of depth at their right rims: RGB
-        // alignment F1 +0.042 complex, +0.014 simple, summed over eight suites; this project's
-        // suites −0.0006, a black box's dark side face in one scene.)
+        // but of its hue, where the hue tells it from the background; a lens blends the rim's
+        // last columns with the background past it, leaving them twice as near the side's
+        // colour as the background's. (The seventh simulator, whose glossy poles and figures
+        // lose a few pixels of depth at their right rims and whose lens blends neighbours:
+        // RGB alignment F1 +0.042 complex and +0.014 simple summed over eight suites by the
+        // hue, +0.058 and +0.067 more by the blend; this project's suites −0.0006 and +0.0004,
+        // the first a black box's dark side face in one scene; the real frame 3 px.)
         let colours = RimColours::new(near, background, self.dimmed(COLOUR_STEP, near));
-        if self.probe(rgb, a, v, sa).is_none_or(|p| {
-            hue_dist(p, near) >= self.dimmed(COLOUR_STEP, near) / 2 && !colours.of_object_hue(p)
-        }) {
+        let side_colour = |p: [i32; 3]| {
+            hue_dist(p, near) < self.dimmed(COLOUR_STEP, near) / 2
+                || colours.of_object_hue(p)
+                || 2 * hue_dist(p, near) <= hue_dist(p, background)
+        };
+        if !self.probe(rgb, a, v, sa).is_some_and(side_colour) {
             return false;
         }
         if b - a > MAX_LIMB {
