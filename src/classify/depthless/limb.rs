@@ -116,11 +116,18 @@ impl ColourSplit {
             return rim;
         }
         // The hole's first pixel, read at the background's depth, may take in the near edge's
-        // blend; the others must show the background.
+        // blend; the others must show the background, or lie twice as near its colour as the
+        // near side's where a soft lens spreads that blend over a second column. (The seventh
+        // simulator: RGB alignment F1 +0.032 complex, +0.013 simple, summed over eight suites;
+        // this project's suites +0.0022, x14142 +0.0033, the holdout −0.0002 and any-shadow
+        // precision −0.0002: a narrow hole right of a cylinder in its scene 037 read as the
+        // cylinder's edge.)
         let from = if b - a > 2 { a + 1 } else { a };
         let shows_background = (from..b).all(|u| {
-            self.probe(rgb, u, v, sb)
-                .is_some_and(|p| hue_dist(p, background) < step / 2)
+            self.probe(rgb, u, v, sb).is_some_and(|p| {
+                let to_background = hue_dist(p, background);
+                to_background < step / 2 || 2 * to_background <= hue_dist(p, near)
+            })
         });
         if shows_background {
             filled[v * WIDTH + a..v * WIDTH + b].fill(sa);
