@@ -15,12 +15,12 @@
 //! background's depth its columns past the strip show the object. Read at the object's own
 //! depth, every column of it shows the object (by hue alone where the rim, turned from the
 //! light, is darker than the middle): the hole is then filled at that depth, and the strip opens
-//! right of it. So is a narrower hole (from [`MIN_RIM`] pixels) whose columns, read at the
-//! background's depth, do not show the background. (The seventh simulator, whose glossy cylinders and figures return depth only
-//! along their middles: RGB alignment F1 +0.016 complex, +0.014 simple, summed over six suites;
-//! two fresh suites +0.005 each; this project's suites −0.0009 summed (a detached shadow right of
-//! a box whose colour runs on over it); 10 px of the real frame's RGB view, 7 of them alignment
-//! now.)
+//! right of it. So is a narrower hole (from [`MIN_RIM_HOLE`] pixels) whose columns, read at the
+//! background's depth, do not show the background. (The seventh simulator, whose glossy
+//! cylinders and figures return depth only along their middles: RGB alignment F1 +0.016
+//! complex, +0.014 simple, summed over six suites; two fresh suites +0.005 each; this project's
+//! suites −0.0009 summed (a detached shadow right of a box whose colour runs on over it); 10 px
+//! of the real frame's RGB view, 7 of them alignment now.)
 
 use super::face::RimColours;
 use super::{hue_dist, ColourSplit, COLOUR_STEP, SIDE};
@@ -34,7 +34,7 @@ const MAX_LIMB: usize = 8;
 const MAX_RIM: usize = 24;
 /// Narrowest hole read as such a rim (pixels): a single pixel is as often a dropout beside the
 /// edge, which the background's colour may not show either.
-const MIN_RIM: usize = 2;
+const MIN_RIM_HOLE: usize = 2;
 /// Least disparity (pixels) between the near side and the background: a third of it is the
 /// alignment strip the RGB camera sees, a pixel at least.
 const MIN_EDGE: f64 = 3.0;
@@ -130,7 +130,7 @@ impl ColourSplit {
         // +0.0011, precision −0.0003, the holdout unchanged; 1 px holes too lost the holdout
         // 0.0020.)
         let rim = !shows_background
-            && b - a >= MIN_RIM
+            && b - a >= MIN_RIM_HOLE
             && (a..b - 1).all(|u| {
                 self.probe(rgb, u, v, sa)
                     .is_some_and(|p| colours.shows_object(p))
