@@ -6118,9 +6118,7 @@ fn glossy_pole_narrow_rim_right_of_its_middle_keeps_the_alignment_strip_past_it(
     // OTHER pixel and took the strip for a hole's. Its hue is the pole's, which the cream wall's
     // is not. (Measured over three frames: 0.85 of the strip's pixels alignment before, 0.99
     // now.)
-    let calib = Calibration::nyu_default();
-    let scene = pole_before_cream_wall(&calib, [0.1, 0.3, 0.15]);
-    let share = strip_past_blanked_right_rim(&calib, &scene, &SensorModel::kinect(), 4);
+    let share = strip_past_rim_before_cream_wall([0.1, 0.3, 0.15], false, 4);
     assert!(share >= 0.95, "{share:.3} of the strip's pixels alignment");
 }
 
@@ -6133,11 +6131,7 @@ fn grey_pole_narrow_rim_blended_by_the_lens_keeps_the_alignment_strip_past_it() 
     // depth, the strip lost as above. Blended, it is still twice as near the pole's colour as
     // the wall's. (Measured over three frames: 0.67 of the strip's pixels alignment before,
     // 0.99 now.)
-    let calib = Calibration::nyu_default();
-    let scene = pole_before_cream_wall(&calib, [0.3, 0.3, 0.3]);
-    let mut sensor = SensorModel::kinect();
-    sensor.rgb_soft = true;
-    let share = strip_past_blanked_right_rim(&calib, &scene, &sensor, 3);
+    let share = strip_past_rim_before_cream_wall([0.3, 0.3, 0.3], true, 3);
     assert!(share >= 0.95, "{share:.3} of the strip's pixels alignment");
 }
 
@@ -6150,11 +6144,7 @@ fn black_pole_rim_blended_over_two_columns_keeps_the_alignment_strip_past_it() {
     // the hole was filled at the wall's depth, the strip lost. Twice as near the wall's colour
     // as the pole's, it shows the wall. (Measured over three frames: 0.86 of the strip's pixels
     // alignment before, 0.99 now.)
-    let calib = Calibration::nyu_default();
-    let scene = pole_before_cream_wall(&calib, [0.1, 0.1, 0.1]);
-    let mut sensor = SensorModel::kinect();
-    sensor.rgb_soft = true;
-    let share = strip_past_blanked_right_rim(&calib, &scene, &sensor, 6);
+    let share = strip_past_rim_before_cream_wall([0.1, 0.1, 0.1], true, 6);
     assert!(share >= 0.95, "{share:.3} of the strip's pixels alignment");
 }
 
@@ -6166,22 +6156,24 @@ fn glossy_pole_rim_wider_than_its_strip_keeps_the_alignment_strip_past_it() {
     // limb). Read at the pole's depth every column shows the pole, as the rim reading asks of
     // wider holes: the hole takes the pole's depth and the strip opens past it. (Measured over
     // three frames: 0.83 of the strip's pixels alignment before, 0.99 now.)
-    let calib = Calibration::nyu_default();
-    let scene = pole_before_cream_wall(&calib, [0.1, 0.3, 0.15]);
-    let share = strip_past_blanked_right_rim(&calib, &scene, &SensorModel::kinect(), 8);
+    let share = strip_past_rim_before_cream_wall([0.1, 0.3, 0.15], false, 8);
     assert!(share >= 0.95, "{share:.3} of the strip's pixels alignment");
 }
 
-/// A pole (radius 5 cm) at 1.2 m over IR column 380, of matte `colour`, before a plain cream
-/// wall at 2.5 m.
-fn pole_before_cream_wall(calib: &Calibration, colour: [f64; 3]) -> Scene {
+/// [`strip_past_blanked_right_rim`] for a pole (radius 5 cm) at 1.2 m over IR column 380, of
+/// matte `colour`, before a plain cream wall at 2.5 m, seen by the NYU defaults' cameras through
+/// a sharp lens or (`soft`) a soft one.
+fn strip_past_rim_before_cream_wall(colour: [f64; 3], soft: bool, rim: usize) -> f64 {
+    let calib = Calibration::nyu_default();
     let mut scene = Scene::new("pole before a plain wall");
     let cream = umbra::synth::Material::matte([0.8, 0.78, 0.7]);
     scene.push("wall", wall(2.5), cream);
     let x = (380.0 - calib.depth.cx) / calib.depth.fx * 1.2;
     let pole = umbra::synth::Material::matte(colour);
     scene.push("pole", vertical_rod(x, 1.2, 0.05), pole);
-    scene
+    let mut sensor = SensorModel::kinect();
+    sensor.rgb_soft = soft;
+    strip_past_blanked_right_rim(&calib, &scene, &sensor, rim)
 }
 
 /// Over three frames of a pole at 1.2 m (the scenes above), with the last `rim` measured
