@@ -10,6 +10,7 @@ pub mod depthless;
 mod holes;
 pub mod noise;
 pub mod scanline;
+pub mod touching;
 mod unseen;
 
 use crate::calib::Calibration;
@@ -123,6 +124,7 @@ impl Classifier {
         }
         consensus::settle(&mut out.ir_labels);
         bands::bridge_detached(&mut out.ir_labels);
+        touching::attach_touching(&self.scan, raw, &self.filled, &mut out.ir_labels);
         self.warp.apply_with_colour(
             &self.filled,
             &out.ir_labels,
@@ -131,7 +133,7 @@ impl Classifier {
             &mut out.registered_mm,
         );
         // Alignment strips are solids too, and the warp's edge placement fails in runs of rows.
-        consensus::settle(&mut out.rgb_labels);
+        consensus::settle_apart(&mut out.rgb_labels);
     }
 }
 

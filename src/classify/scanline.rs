@@ -83,8 +83,18 @@ impl ScanParams {
 
     /// Disparity in pixels of a raw value (eq. 3's `disp`).
     #[inline]
-    fn disp(&self, raw: u16) -> f32 {
+    pub(super) fn disp(&self, raw: u16) -> f32 {
         self.k * (self.den - f32::from(raw))
+    }
+
+    /// The smallest disparity step (pixels) read as a depth edge.
+    pub(super) fn min_step(&self) -> f32 {
+        self.min_step
+    }
+
+    /// How much wider than eq. (3) (pixels) an attached shadow may be.
+    pub(super) fn over(&self) -> f32 {
+        self.over
     }
 
     /// True for a measured pixel on the background at disparity `d_bg` (within two steps): lit
@@ -2180,8 +2190,8 @@ fn occluder_goes_on(p: &ScanParams, seg: &[u16], hole_at: usize) -> bool {
 const GAP_ROWS: usize = 5;
 
 /// How much narrower than the shift (pixels) a hole touching a thin occluder may be and still be
-/// its detached shadow with the lit gap swallowed: the widening and pixel sampling of either end.
-const SWALLOWED_GAP_SLACK: f32 = WIDENING + 1.0;
+/// its shadow with the lit gap swallowed: the widening and pixel sampling of either end.
+pub(super) const SWALLOWED_GAP_SLACK: f32 = WIDENING + 1.0;
 
 /// Widest lit gap (pixels: the shift less the occluder's width) that the widening can swallow:
 /// its own at the shadow's right end and the occluder's left edge it eats, each up to

@@ -8,7 +8,11 @@
 //!   projector→surface segment), else DETACHED. A shadow that runs off the right border is
 //!   followed past it, on rays of columns beyond the image, to its first lit pixel: ATTACHED
 //!   when that shows the occluder (SPEC §1: the hole touches its occluder, which the border
-//!   hides), DETACHED when lit background comes first.
+//!   hides), DETACHED when lit background comes first. After the sensor's effects, a DETACHED
+//!   run from which the occluder is reached walking right over holes alone (the widening
+//!   swallowed the lit gap, or it fell on a surface that is a hole anyway) is ATTACHED: SPEC §1's
+//!   attached shadow is a hole that touches its occluder, and its detached one leaves visible
+//!   background between them.
 //!   Every other hole is OTHER, including unlit surfaces that would be holes even if lit.
 //! - RGB view: the nearest surface along the RGB pixel's ray, projected into the IR image. Outside
 //!   the IR image or no surface: OTHER. Hidden from the IR camera: ALIGNMENT if the surface is
@@ -188,6 +192,33 @@ pub fn ir_labels(g: &IrGeometry) -> Vec<u8> {
     labels
 }
 
+/// Relabels ATTACHED each run of DETACHED pixels in `labels` from whose right end, walking over
+/// holes of the final `raw` map alone, a pixel of the object that shadows one of its pixels comes
+/// before any valid pixel of another: no background shows between that shadow and its occluder.
+fn touching_runs_attached(g: &IrGeometry, raw: &[u16], labels: &mut [u8]) {
+    for v in 0..HEIGHT {
+        let row = v * WIDTH;
+        let mut u = 0;
+        while u < WIDTH {
+            if labels[row + u] != DETACHED {
+                u += 1;
+                continue;
+            }
+            let start = u;
+            while u < WIDTH && labels[row + u] == DETACHED {
+                u += 1;
+            }
+            let casts = |obj: u32| (start..u).any(|x| g.occluder[row + x] == obj);
+            let touches = (u..WIDTH)
+                .find(|&x| raw[row + x] != NO_DEPTH || casts(g.object[row + x]))
+                .is_some_and(|x| g.object[row + x] != NONE && casts(g.object[row + x]));
+            if touches {
+                labels[row + start..row + u].fill(ATTACHED);
+            }
+        }
+    }
+}
+
 /// Renders one frame of `scene`. `seed` drives every random sensor effect, so the same inputs
 /// always give the same frame.
 pub fn render_frame(
@@ -214,6 +245,7 @@ pub fn render_frame(
     sensor::mixed_pixels(sensor, &labels, &mut raw, &mut rng);
     sensor::speckle(sensor, &mut labels, &mut raw, &mut rng);
     sensor::spurious(sensor, calib, &g.z, &mut labels, &mut raw, &mut rng);
+    touching_runs_attached(&g, &raw, &mut labels);
     let (rgb, rgb_labels, fg) = render_rgb(scene, calib, sensor, &labels, &mut rng);
     SynthFrame {
         raw,

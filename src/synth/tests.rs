@@ -141,6 +141,59 @@ fn thin_rod_casts_a_detached_shadow_where_predicted() {
     }
 }
 
+/// A rod narrower than its shift by about a pixel and a half leaves a lit gap that a sensor
+/// widening shadows by up to 2 px on their right swallows in some rows: there the hole touches
+/// the rod, and SPEC §1's attached shadow is a hole that touches its occluder. Each row of the
+/// rod's shadow is labelled by what its raw map shows: attached where the hole runs into the rod,
+/// detached where a measured pixel of wall lies between them.
+#[test]
+fn a_thin_rods_shadow_is_attached_in_rows_whose_hole_touches_it() {
+    let c = Calibration::nyu_default();
+    let (fx, cx, b) = (c.depth.fx, c.depth.cx, c.raw.baseline_m);
+    let (x0, zf, zb, r) = (0.0, 1.0, 3.0, 0.0235);
+    assert!(2.0 * r < b * (1.0 - zf / zb), "a thin rod by SPEC §1");
+    // The lit gap between the shadow's right end (the projector's ray past the rod's right side,
+    // on the wall) and the rod's left side, as in `thin_rod_casts_a_detached_shadow_where_predicted`.
+    let s1 = fx * (b + (x0 + r - b) * zb / zf) / zb + cx;
+    let r0 = fx * (x0 - r) / zf + cx;
+    assert!((1.0..2.0).contains(&(r0 - s1)), "gap {:.2} px", r0 - s1);
+    let sensor = SensorModel {
+        widen_right_max: 2,
+        ..SensorModel::ideal()
+    };
+    let f = render_frame(&Scene::rod_before_wall(x0, zf, r, zb), &c, &sensor, 5);
+    let (mut touching, mut apart) = (0, 0);
+    for v in 0..480 {
+        let (raw, l) = (&f.raw[v * WIDTH..(v + 1) * WIDTH], row(&f.ir_labels, v));
+        let shadow = cols(l, ATTACHED)
+            .into_iter()
+            .chain(cols(l, DETACHED))
+            .collect::<Vec<_>>();
+        let (first, last) = (*shadow.iter().min().unwrap(), *shadow.iter().max().unwrap());
+        assert_eq!(last - first + 1, shadow.len(), "row {v}: one run");
+        // The rod's first measured column (its near side, about 1 m).
+        let rod = (last + 1..WIDTH)
+            .find(|&u| raw[u] != NO_DEPTH && raw[u] < c.raw_from_depth(1.5) as u16)
+            .unwrap();
+        let code = if raw[last + 1..rod].contains(&NO_DEPTH) || last + 1 == rod {
+            touching += 1;
+            ATTACHED
+        } else {
+            apart += 1;
+            DETACHED
+        };
+        assert!(
+            l[first..=last].iter().all(|&x| x == code),
+            "row {v}: {:?} before the rod at {rod}",
+            &l[first..=last]
+        );
+    }
+    assert!(
+        touching > 50 && apart > 50,
+        "{touching} rows touch, {apart} do not"
+    );
+}
+
 #[test]
 fn shadows_running_off_the_right_border_are_labelled_by_what_lies_past_it() {
     // Rods 1 m away past the border (their left sides at column cx + fx·(x0 − r) ≥ 640),
