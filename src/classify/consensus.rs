@@ -17,8 +17,8 @@
 //! only in some rows, say).
 //! Applied to the IR view's finished labels before the warp carries them over, and to the RGB
 //! view's after it, there without trading attached for detached ([`settle_apart`]; the RGB
-//! pass: +0.002 to +0.006 of complex scenes' alignment F1, −0.001 to
-//! −0.002 of their RGB any-shadow precision, simple scenes unchanged or better). Each pass takes
+//! pass: +0.002 to +0.006 of complex scenes' alignment F1, −0.001 to −0.002 of their RGB
+//! any-shadow precision, simple scenes unchanged or better). Each pass takes
 //! 25 to 40 µs inside the classifier on the development VM, on the real NYU frame and on the
 //! bundled complex room alike; the room's took 60 to 90 µs while the fragment pass still read
 //! every chunk that held a detached label (most are the insides of long runs).
@@ -58,7 +58,7 @@ const CHUNK: usize = 64;
 /// Settles disagreements in `labels` (whole rows of [`WIDTH`]), top to bottom: a row is judged
 /// against the row above as already settled, and the rows below as they are.
 pub fn settle(labels: &mut [u8]) {
-    settle_with(labels, true);
+    settle_with::<true>(labels);
 }
 
 /// [`settle`], but attached and detached pixels keep their kind: only OTHER and alignment take
@@ -68,11 +68,12 @@ pub fn settle(labels: &mut [u8]) {
 /// one between rows of the other is no error to mend. (This project's suites, complex RGB
 /// attached F1 +0.154 summed over fourteen; the seventh simulator's +0.022 over eight.)
 pub fn settle_apart(labels: &mut [u8]) {
-    settle_with(labels, false);
+    settle_with::<false>(labels);
 }
 
-/// [`settle`]; `trade` false keeps attached and detached pixels from taking each other's label.
-fn settle_with(labels: &mut [u8], trade: bool) {
+/// [`settle`]; `TRADE` false keeps attached and detached pixels from taking each other's label
+/// (a constant, so each form's test stays branch-free and vectorised).
+fn settle_with<const TRADE: bool>(labels: &mut [u8]) {
     let rows = labels.len() / WIDTH;
     // Which rows hold, once settled, the top of a shadow run (OTHER above it): where the
     // fragment pass can start one (bit `v % 64` of word `v / 64`). That pass only turns shadow
@@ -94,7 +95,7 @@ fn settle_with(labels: &mut [u8], trade: bool) {
             let open = |(&m, &a): (&u8, &u8)| {
                 let kinds =
                     ((m == ATTACHED) | (m == DETACHED)) & ((a == ATTACHED) | (a == DETACHED));
-                (a != VALID) & (a != OTHER) & (m != a) & (m != VALID) & (trade | !kinds)
+                (a != VALID) & (a != OTHER) & (m != a) & (m != VALID) & (TRADE | !kinds)
             };
             if row.iter().zip(above).fold(false, |any, p| any | open(p)) {
                 for (j, (l, &a)) in row.iter_mut().zip(above).enumerate() {
