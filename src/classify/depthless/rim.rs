@@ -136,9 +136,10 @@ impl ColourSplit {
             return None;
         }
         // The object is a surface over a few pixels. The background's colour is read over as
-        // many of them as show it: a nearer surface's edge may leave a strip of a pixel or two
-        // beside the hole (the seventh simulator's shadows beside a narrow strip of wall kept
-        // 0.62 of their attached pixels where it was one pixel wide, 0.91 where twelve).
+        // many of the SIDE pixels left of the hole as lie on Sa's surface: a nearer surface's
+        // edge may leave a strip of a pixel or two of it (the seventh simulator's shadows beside
+        // such a strip kept 0.62 of their attached pixels where it was one pixel wide, 0.91
+        // where twelve or more).
         let side = (1..=SIDE)
             .take_while(|&k| self.on_surface(raw[row + a - k], sa))
             .count();
